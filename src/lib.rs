@@ -1,0 +1,9 @@
+//! surftrack: turns an incoherent sequence of closed triangle meshes into one temporally coherent
+//! deforming mesh plus per-frame event lists (Bojsen-Hansen, Li & Wojtan 2012, "Tracking Surfaces
+//! with Evolving Topology").
+
+pub mod compute;
+pub mod grid;
+pub mod io;
+pub mod mesh;
+pub mod synth;
