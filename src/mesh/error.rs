@@ -8,7 +8,9 @@ use thiserror::Error;
 pub enum MeshError {
     #[error("mesh is empty (no triangles)")]
     Empty,
-    #[error("triangle {triangle} references vertex {vertex}, but the mesh has only {count} vertices")]
+    #[error(
+        "triangle {triangle} references vertex {vertex}, but the mesh has only {count} vertices"
+    )]
     IndexOutOfRange {
         triangle: usize,
         vertex: u32,
@@ -24,8 +26,15 @@ pub enum MeshError {
     NonManifoldEdge { a: u32, b: u32, count: usize },
     #[error("non-manifold vertex {vertex}: its triangles form {fans} separate fans (bow-tie)")]
     NonManifoldVertex { vertex: u32, fans: usize },
-    #[error("inconsistent orientation: edge ({a}, {b}) is traversed in the same direction by triangles {t0} and {t1}")]
-    InconsistentOrientation { a: u32, b: u32, t0: usize, t1: usize },
+    #[error(
+        "inconsistent orientation: edge ({a}, {b}) is traversed in the same direction by triangles {t0} and {t1}"
+    )]
+    InconsistentOrientation {
+        a: u32,
+        b: u32,
+        t0: usize,
+        t1: usize,
+    },
     #[error("isolated vertex {vertex} belongs to no triangle")]
     IsolatedVertex { vertex: usize },
     #[error("half-edge structure corrupt: {0}")]

@@ -1,8 +1,22 @@
 //! Triangle meshes: the indexed form every reader and writer speaks, and the half-edge form the
 //! tracker mutates (split, collapse, flip) while keeping persistent vertex ids.
 
+mod check;
 mod error;
+mod halfedge;
 mod indexed;
+mod mutate;
+mod mutation;
+mod normals;
+mod primitives;
+mod quality;
+mod topology;
+mod validate;
 
 pub use error::MeshError;
+pub use halfedge::{FaceId, HalfEdgeId, Mesh, Outgoing, VertexId};
 pub use indexed::{Attribute, IndexedMesh};
+pub use mutation::Mutation;
+pub use normals::NormalWeighting;
+pub use quality::{QualityStats, aspect_ratio, min_angle_degrees};
+pub use topology::{ComponentTopology, Topology};
