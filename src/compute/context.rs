@@ -1,0 +1,418 @@
+use std::borrow::Cow;
+use std::collections::HashMap;
+use std::fmt;
+use std::sync::{Mutex, mpsc};
+
+use bytemuck::Pod;
+use wgpu::util::DeviceExt;
+
+use super::ComputeError;
+use super::dispatch::workgroup_grid;
+use super::registry::{self, Access, KernelInfo};
+
+/// A compiled kernel: its pipeline and the layout its bind groups must follow.
+#[derive(Clone)]
+struct Compiled {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+/// An open GPU device with what every kernel needs: buffer upload and readback, and pipelines
+/// compiled once per kernel and cached by name.
+///
+/// Opening a device is slow (hundreds of milliseconds, more under lavapipe), so one context is
+/// meant to be created per process and shared through [`super::Backend::Gpu`].
+pub struct GpuContext {
+    info: wgpu::AdapterInfo,
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    limits: wgpu::Limits,
+    pipelines: Mutex<HashMap<&'static str, Compiled>>,
+}
+
+impl fmt::Debug for GpuContext {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("GpuContext")
+            .field("adapter", &self.info.name)
+            .field("backend", &self.info.backend)
+            .field("device_type", &self.info.device_type)
+            .finish_non_exhaustive()
+    }
+}
+
+impl GpuContext {
+    /// Opens a device on `adapter` with the adapter's full limits, so buffers as large as the
+    /// hardware allows can be bound (the WebGPU defaults stop at 128 MiB per storage buffer).
+    pub fn new(adapter: &wgpu::Adapter) -> Result<Self, ComputeError> {
+        let info = adapter.get_info();
+        let limits = adapter.limits();
+        let descriptor = wgpu::DeviceDescriptor {
+            label: Some("surftrack"),
+            required_limits: limits.clone(),
+            ..Default::default()
+        };
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&descriptor)).map_err(|e| {
+                ComputeError::Device {
+                    adapter: info.name.clone(),
+                    message: e.to_string(),
+                }
+            })?;
+        Ok(Self {
+            info,
+            device,
+            queue,
+            limits,
+            pipelines: Mutex::new(HashMap::new()),
+        })
+    }
+
+    pub fn adapter_info(&self) -> &wgpu::AdapterInfo {
+        &self.info
+    }
+
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
+    }
+
+    pub fn limits(&self) -> &wgpu::Limits {
+        &self.limits
+    }
+
+    /// The most elements of `T` one storage buffer binding may hold (at least 1). Kernels over
+    /// longer arrays run in chunks of this length.
+    pub fn max_binding_len<T>(&self) -> usize {
+        let bytes = self.binding_limit() / size_of::<T>().max(1) as u64;
+        usize::try_from(bytes).unwrap_or(usize::MAX).max(1)
+    }
+
+    /// A storage buffer holding `data`, readable by kernels.
+    pub fn upload<T: Pod>(
+        &self,
+        label: &'static str,
+        data: &[T],
+    ) -> Result<wgpu::Buffer, ComputeError> {
+        let contents: &[u8] = bytemuck::cast_slice(data);
+        self.check_size(label, contents.len() as u64)?;
+        self.scoped(|| {
+            self.device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                })
+        })
+    }
+
+    /// An uninitialised storage buffer of `len` elements of `T` for a kernel to write.
+    pub fn output<T: Pod>(
+        &self,
+        label: &'static str,
+        len: usize,
+    ) -> Result<wgpu::Buffer, ComputeError> {
+        let bytes = byte_len::<T>(label, len)? as u64;
+        self.check_size(label, bytes)?;
+        self.scoped(|| {
+            self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: padded(bytes),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        })
+    }
+
+    /// Copies the first `len` elements of `buffer` back to the host, waiting for all work
+    /// submitted before.
+    pub fn read_back<T: Pod>(
+        &self,
+        buffer: &wgpu::Buffer,
+        len: usize,
+    ) -> Result<Vec<T>, ComputeError> {
+        let used = byte_len::<T>("read_back", len)?;
+        let bytes = used as u64;
+        if bytes == 0 {
+            return Ok(Vec::new());
+        }
+        if padded(bytes) > buffer.size() {
+            return Err(ComputeError::Gpu(format!(
+                "read_back of {bytes} bytes from a buffer of {} bytes",
+                buffer.size()
+            )));
+        }
+        let staging = self.scoped(|| {
+            let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("read_back"),
+                size: padded(bytes),
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut encoder = self.device.create_command_encoder(&Default::default());
+            encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, padded(bytes));
+            self.queue.submit([encoder.finish()]);
+            staging
+        })?;
+        let (sender, receiver) = mpsc::channel();
+        staging.map_async(wgpu::MapMode::Read, .., move |result| {
+            // Sending fails only when the receiver is gone, that is when `read_back` has already
+            // returned an error; the result is then of no use to anyone.
+            let _ = sender.send(result);
+        });
+        self.wait()?;
+        receiver
+            .recv()
+            .map_err(|e| ComputeError::Gpu(format!("buffer mapping never completed: {e}")))?
+            .map_err(|e| ComputeError::Gpu(format!("buffer mapping failed: {e}")))?;
+        let data = {
+            let view = staging
+                .get_mapped_range(..)
+                .map_err(|e| ComputeError::Gpu(format!("mapped range unavailable: {e}")))?;
+            bytemuck::pod_collect_to_vec(&view[..used])
+        };
+        staging.unmap();
+        Ok(data)
+    }
+
+    /// Runs `kernel` over `items` work items with `buffers` bound in registry order, splitting the
+    /// grid into rows when it exceeds `max_compute_workgroups_per_dimension`. Returns once the work
+    /// is submitted; [`Self::read_back`] or [`Self::wait`] waits for it.
+    pub fn dispatch(
+        &self,
+        kernel: &'static str,
+        buffers: &[&wgpu::Buffer],
+        items: u64,
+    ) -> Result<(), ComputeError> {
+        let info = registry::kernel(kernel)?;
+        if buffers.len() != info.bindings.len() {
+            return Err(ComputeError::BindingCount {
+                kernel: info.name,
+                expected: info.bindings.len(),
+                got: buffers.len(),
+            });
+        }
+        if items == 0 {
+            return Ok(());
+        }
+        let grid = workgroup_grid(
+            items,
+            info.workgroup_size,
+            self.limits.max_compute_workgroups_per_dimension,
+        )?;
+        let compiled = self.compiled(info)?;
+        self.scoped(|| {
+            let entries: Vec<wgpu::BindGroupEntry> = buffers
+                .iter()
+                .enumerate()
+                .map(|(i, buffer)| wgpu::BindGroupEntry {
+                    binding: i as u32,
+                    resource: buffer.as_entire_binding(),
+                })
+                .collect();
+            let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(info.name),
+                layout: &compiled.layout,
+                entries: &entries,
+            });
+            let mut encoder = self.device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(info.name),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&compiled.pipeline);
+                pass.set_bind_group(0, &bind_group, &[]);
+                pass.dispatch_workgroups(grid[0], grid[1], grid[2]);
+            }
+            self.queue.submit([encoder.finish()]);
+        })
+    }
+
+    /// Blocks until all submitted work has finished.
+    pub fn wait(&self) -> Result<(), ComputeError> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| ComputeError::Gpu(format!("waiting for the GPU failed: {e}")))
+    }
+
+    /// The cached pipeline of `info`, compiling it on first use.
+    fn compiled(&self, info: &'static KernelInfo) -> Result<Compiled, ComputeError> {
+        let mut cache = self
+            .pipelines
+            .lock()
+            .map_err(|_| ComputeError::Gpu("pipeline cache poisoned".into()))?;
+        if let Some(compiled) = cache.get(info.name) {
+            return Ok(compiled.clone());
+        }
+        let compiled = self.scoped(|| self.compile(info))?;
+        cache.insert(info.name, compiled.clone());
+        Ok(compiled)
+    }
+
+    fn compile(&self, info: &KernelInfo) -> Compiled {
+        let module = self
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(info.path),
+                source: wgpu::ShaderSource::Wgsl(Cow::Owned(info.full_source())),
+            });
+        let entries: Vec<wgpu::BindGroupLayoutEntry> = info
+            .bindings
+            .iter()
+            .enumerate()
+            .map(|(i, binding)| wgpu::BindGroupLayoutEntry {
+                binding: i as u32,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage {
+                        read_only: binding.access == Access::Read,
+                    },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            })
+            .collect();
+        let layout = self
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(info.name),
+                entries: &entries,
+            });
+        let pipeline_layout = self
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(info.name),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+        let pipeline = self
+            .device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(info.name),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(info.entry_point),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+        Compiled { pipeline, layout }
+    }
+
+    fn binding_limit(&self) -> u64 {
+        self.limits
+            .max_storage_buffer_binding_size
+            .min(self.limits.max_buffer_size)
+    }
+
+    fn check_size(&self, label: &'static str, bytes: u64) -> Result<(), ComputeError> {
+        let limit = self.binding_limit();
+        if bytes > limit {
+            return Err(ComputeError::BufferTooLarge {
+                label,
+                bytes,
+                limit,
+            });
+        }
+        Ok(())
+    }
+
+    /// Runs `f` with wgpu's errors captured and returned instead of reaching the device's default
+    /// handler, which panics.
+    fn scoped<R>(&self, f: impl FnOnce() -> R) -> Result<R, ComputeError> {
+        let out_of_memory = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let internal = self.device.push_error_scope(wgpu::ErrorFilter::Internal);
+        let result = f();
+        let errors = [
+            pollster::block_on(internal.pop()),
+            pollster::block_on(validation.pop()),
+            pollster::block_on(out_of_memory.pop()),
+        ];
+        match errors.into_iter().flatten().next() {
+            Some(error) => Err(ComputeError::Gpu(error.to_string())),
+            None => Ok(result),
+        }
+    }
+}
+
+/// Byte length of `len` elements of `T`.
+fn byte_len<T>(label: &'static str, len: usize) -> Result<usize, ComputeError> {
+    len.checked_mul(size_of::<T>())
+        .ok_or(ComputeError::BufferTooLarge {
+            label,
+            bytes: u64::MAX,
+            limit: 0,
+        })
+}
+
+/// `bytes` rounded up to wgpu's copy alignment, at least one word (buffers of size 0 cannot be
+/// mapped or copied).
+fn padded(bytes: u64) -> u64 {
+    bytes.div_ceil(wgpu::COPY_BUFFER_ALIGNMENT).max(1) * wgpu::COPY_BUFFER_ALIGNMENT
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::compute::Aabb;
+    use crate::compute::parity::run_on_gpu;
+
+    fn context(backend: &crate::compute::Backend) -> &GpuContext {
+        backend.gpu().expect("run_on_gpu passes a GPU backend")
+    }
+
+    #[test]
+    fn upload_then_read_back_round_trips_any_length() {
+        run_on_gpu(|backend| {
+            let gpu = context(backend);
+            for len in [0usize, 1, 3, 1000] {
+                let bytes: Vec<u8> = (0..len).map(|i| (i * 37 % 251) as u8).collect();
+                let buffer = gpu.upload("bytes", &bytes).unwrap();
+                assert_eq!(gpu.read_back::<u8>(&buffer, len).unwrap(), bytes);
+                let words: Vec<u16> = (0..len).map(|i| (i * 7919) as u16).collect();
+                let buffer = gpu.upload("words", &words).unwrap();
+                assert_eq!(gpu.read_back::<u16>(&buffer, len).unwrap(), words);
+            }
+        });
+    }
+
+    #[test]
+    fn misuse_is_an_error_not_a_panic() {
+        run_on_gpu(|backend| {
+            let gpu = context(backend);
+            let small = gpu.upload("small", &[1u32, 2]).unwrap();
+            assert!(matches!(
+                gpu.read_back::<u32>(&small, 3),
+                Err(ComputeError::Gpu(_))
+            ));
+            assert_eq!(
+                gpu.dispatch("no_such_kernel", &[], 1),
+                Err(ComputeError::UnknownKernel("no_such_kernel".into()))
+            );
+            assert_eq!(
+                gpu.dispatch("triangle_bounds", &[&small], 1),
+                Err(ComputeError::BindingCount {
+                    kernel: "triangle_bounds",
+                    expected: 3,
+                    got: 1
+                })
+            );
+            // A 4-byte buffer cannot hold even one 32-byte box: wgpu's validation error comes back
+            // as a value instead of reaching the device's panicking default handler.
+            let positions = gpu.upload("positions", &[[0.0f32; 3]]).unwrap();
+            let triangles = gpu.upload("triangles", &[[0u32; 3]]).unwrap();
+            let result = gpu.dispatch("triangle_bounds", &[&positions, &triangles, &small], 1);
+            assert!(matches!(result, Err(ComputeError::Gpu(_))), "{result:?}");
+            let too_many = gpu.max_binding_len::<Aabb>() + 1;
+            assert!(matches!(
+                gpu.output::<Aabb>("huge", too_many),
+                Err(ComputeError::BufferTooLarge { .. })
+            ));
+        });
+    }
+}
