@@ -1,6 +1,7 @@
 use std::path::PathBuf;
 use surftrack::io::IoError;
 use surftrack::mesh::MeshError;
+use surftrack::synth::SynthError;
 use thiserror::Error;
 
 /// Everything a subcommand can fail with; each message names the file involved.
@@ -8,6 +9,8 @@ use thiserror::Error;
 pub enum CliError {
     #[error(transparent)]
     Io(#[from] IoError),
+    #[error(transparent)]
+    Synth(#[from] SynthError),
     #[error("{}: not a closed 2-manifold: {source}", path.display())]
     InvalidMesh { path: PathBuf, source: MeshError },
     #[error("{failed} of {total} frames are not closed 2-manifolds (see above)")]

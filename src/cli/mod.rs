@@ -2,6 +2,7 @@
 
 mod error;
 mod inspect;
+mod synth;
 
 pub use error::CliError;
 
@@ -22,10 +23,15 @@ enum Command {
     /// status and edge-length statistics. Exits non-zero when a frame cannot be read or is not a closed
     /// 2-manifold.
     Inspect(inspect::InspectArgs),
+    /// Generate a synthetic incoherent sequence (marching cubes of an analytic field, re-extracted on a
+    /// jittered grid every frame) plus a manifest.json with its ground truth: blobs, merge, split,
+    /// droplets, morph, rigid.
+    Synth(synth::SynthArgs),
 }
 
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Inspect(args) => inspect::run(&args),
+        Command::Synth(args) => synth::run(&args),
     }
 }
