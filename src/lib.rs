@@ -3,7 +3,11 @@
 //! with Evolving Topology").
 
 pub mod compute;
+pub mod events;
 pub mod grid;
+pub mod improve;
 pub mod io;
 pub mod mesh;
+pub mod project;
+pub mod register;
 pub mod synth;
