@@ -1,8 +1,11 @@
 //! Subcommands and their arguments (clap); each subcommand lives in its own file.
 
 mod error;
+mod eval;
 mod inspect;
+mod propagate;
 mod synth;
+mod track;
 
 pub use error::CliError;
 
@@ -27,11 +30,25 @@ enum Command {
     /// jittered grid every frame) plus a manifest.json with its ground truth: blobs, merge, split,
     /// droplets, morph, rigid.
     Synth(synth::SynthArgs),
+    /// Track a frame sequence (Algorithm 1): write one coherent deforming mesh (persistent vertex
+    /// ids) and per-frame event lists into OUT.
+    Track(track::TrackArgs),
+    /// Carry per-vertex data through a tracked sequence using its event lists (paper §4.6): a
+    /// checkerboard or image colour, texture coordinates, an attribute painted on a mesh, optionally
+    /// as a displacement along normals. Writes PLY (id + channels) and/or OBJ (vt, vertex colours).
+    Propagate(propagate::PropagateArgs),
+    /// Per-frame quality of a tracked sequence against its input: Hausdorff and mean distance (in the
+    /// input's mean edge length), components and Euler characteristic, triangle quality, coherence,
+    /// and drift from a synth manifest's ground truth. Prints a table, writes JSON.
+    Eval(eval::EvalArgs),
 }
 
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Inspect(args) => inspect::run(&args),
         Command::Synth(args) => synth::run(&args),
+        Command::Track(args) => track::run(&args),
+        Command::Propagate(args) => propagate::run(&args),
+        Command::Eval(args) => eval::run(&args),
     }
 }

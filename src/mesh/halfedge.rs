@@ -172,6 +172,15 @@ impl Mesh {
         self.positions[v.0 as usize] = p;
     }
 
+    /// True when slot `v` holds a live vertex: a collapse frees its endpoints' slots, and a later
+    /// mutation may reuse a slot for a vertex with a new id, so callers that keep slots across
+    /// mutations check this together with the id.
+    pub fn is_live(&self, v: VertexId) -> bool {
+        self.vertex_half_edge
+            .get(v.0 as usize)
+            .is_some_and(|&h| h != INVALID)
+    }
+
     /// Persistent id of a live vertex.
     pub fn id(&self, v: VertexId) -> u64 {
         self.ids[v.0 as usize]
@@ -285,6 +294,12 @@ impl Mesh {
             .as_mut()
             .map(std::mem::take)
             .unwrap_or_default()
+    }
+
+    /// Raises the id counter to at least `next`, so ids handed out before a restart (and since
+    /// destroyed) are never reused after it.
+    pub fn reserve_ids_below(&mut self, next: u64) {
+        self.next_id = self.next_id.max(next);
     }
 
     /// Renumbers slots densely, dropping deleted vertices and faces; ids and attributes follow.

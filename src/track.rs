@@ -1,0 +1,320 @@
+//! Algorithm 1 of the paper (§4.5): one tracked mesh `M` carried through the input frames —
+//! register to each target (coarse, fine), improve, merge self-intersections
+//! (`ConstrainTopology(M, Φ(M))`), take the target's topology (`ConstrainTopology(M, Φ(T_j))`),
+//! improve — while every vertex created or destroyed goes into the frame's event list (§4.4).
+//!
+//! The tracker holds one frame at a time, so memory follows the frame size, never the sequence
+//! length. At the end of every frame the mesh is compacted, so its whole state is what the written
+//! frame holds (plus `next_id`): resuming from a written frame continues bit-identically.
+
+use crate::compute::Backend;
+use crate::events::{EventKind, EventList};
+use crate::grid::{GridFrame, RasterError};
+use crate::improve::{ImproveError, ImproveParams, improve};
+use crate::mesh::{IndexedMesh, Mesh, MeshError};
+use crate::project::{Bvh, ProjectError, closest_points};
+use crate::register::{RegisterError, RegisterOptions, register};
+use crate::topology::{Field, TopologyError, TopologyOptions, constrain_topology};
+use serde::{Deserialize, Serialize};
+use std::time::{Duration, Instant};
+use thiserror::Error;
+
+/// Every parameter of the method, with the paper's defaults. Lengths are relative to the target edge
+/// length `L` (the first frame's mean edge length unless `edge_length` is given).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrackOptions {
+    /// Absolute target edge length; `None` takes the first frame's mean edge length.
+    pub edge_length: Option<f32>,
+    /// Grid spacing Δ of the topology step as a multiple of `L` (paper §4.3: about one edge length).
+    pub grid_factor: f32,
+    /// Mesh improvement (§4.1); its `edge_length` is replaced by `L`.
+    pub improve: ImproveParams,
+    pub register: RegisterOptions,
+    pub topology: TopologyOptions,
+}
+
+impl Default for TrackOptions {
+    fn default() -> Self {
+        Self {
+            edge_length: None,
+            grid_factor: 1.0,
+            improve: ImproveParams::new(1.0),
+            register: RegisterOptions::default(),
+            topology: TopologyOptions::default(),
+        }
+    }
+}
+
+#[derive(Debug, Error)]
+pub enum TrackError {
+    #[error("frame {frame}: {source}")]
+    Mesh { frame: usize, source: MeshError },
+    #[error("frame {frame}: registration failed: {source}")]
+    Register { frame: usize, source: RegisterError },
+    #[error("frame {frame}: mesh improvement failed: {source}")]
+    Improve { frame: usize, source: ImproveError },
+    #[error("frame {frame}: topology step failed: {source}")]
+    Topology { frame: usize, source: TopologyError },
+    #[error("frame {frame}: {source}")]
+    Project { frame: usize, source: ProjectError },
+    #[error("frame {frame}: cannot place the topology grid: {source}")]
+    Grid { frame: usize, source: RasterError },
+    #[error("the target edge length {0} is not a positive finite number")]
+    EdgeLength(f32),
+}
+
+/// Wall-clock time of each stage of one frame, in milliseconds.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct StageTimes {
+    pub register: f64,
+    pub improve: f64,
+    pub topology_self: f64,
+    pub topology_target: f64,
+    pub residual: f64,
+    pub total: f64,
+}
+
+/// Events of one frame by kind.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct EventCounts {
+    pub split_edge: usize,
+    pub split_face: usize,
+    pub collapse: usize,
+    pub patch_created: usize,
+    pub patch_deleted: usize,
+}
+
+impl EventCounts {
+    fn of(list: &EventList) -> Self {
+        let mut c = Self::default();
+        for e in &list.events {
+            *match e.kind {
+                EventKind::SplitEdge => &mut c.split_edge,
+                EventKind::SplitFace => &mut c.split_face,
+                EventKind::Collapse => &mut c.collapse,
+                EventKind::PatchCreated => &mut c.patch_created,
+                EventKind::PatchDeleted => &mut c.patch_deleted,
+            } += 1;
+        }
+        c
+    }
+}
+
+/// What happened in one frame: the per-frame log line and the JSON summary's record.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FrameLog {
+    pub frame: usize,
+    pub vertices: usize,
+    pub faces: usize,
+    pub events: EventCounts,
+    /// Mean and largest distance of the tracked vertices to the target frame, in units of `L`.
+    pub residual_mean: f64,
+    pub residual_max: f64,
+    pub registration_converged: bool,
+    pub topology_changed: bool,
+    pub times: StageTimes,
+}
+
+/// The state carried from frame to frame.
+pub struct Tracker {
+    mesh: Mesh,
+    options: TrackOptions,
+    params: ImproveParams,
+    grid: GridFrame,
+}
+
+fn ms(d: Duration) -> f64 {
+    d.as_secs_f64() * 1e3
+}
+
+impl Tracker {
+    /// Lines 1–2 of Algorithm 1: `M` from the first frame (which must be a closed manifold), then
+    /// improved. Returns the tracker and frame 0's log and events.
+    pub fn start(
+        first: &IndexedMesh,
+        backend: &Backend,
+        options: &TrackOptions,
+    ) -> Result<(Self, EventList, FrameLog), TrackError> {
+        let start = Instant::now();
+        let mut fresh = first.clone();
+        fresh.ids = None;
+        fresh.attributes.clear();
+        let mesh =
+            Mesh::from_indexed(&fresh).map_err(|source| TrackError::Mesh { frame: 0, source })?;
+        let edge_length = options
+            .edge_length
+            .unwrap_or_else(|| first.mean_edge_length());
+        let mut tracker = Self::with_mesh(mesh, edge_length, options)?;
+        tracker.mesh.record_mutations();
+        let t = Instant::now();
+        improve(&mut tracker.mesh, &tracker.params)
+            .map_err(|source| TrackError::Improve { frame: 0, source })?;
+        let improve_time = t.elapsed();
+        let events = EventList::drain(&mut tracker.mesh);
+        tracker.mesh.compact();
+        let mut times = StageTimes {
+            improve: ms(improve_time),
+            ..StageTimes::default()
+        };
+        let (mean, max) = tracker.residual(backend, first, 0, &mut times)?;
+        times.total = ms(start.elapsed());
+        let log = tracker.log(0, &events, (mean, max), true, false, times);
+        Ok((tracker, events, log))
+    }
+
+    /// A tracker continuing from a written frame: `mesh` with its persistent ids, `next_id` and the
+    /// run's target edge length as recorded in `track.json`.
+    pub fn resume(
+        mesh: &IndexedMesh,
+        next_id: u64,
+        edge_length: f32,
+        options: &TrackOptions,
+    ) -> Result<Self, TrackError> {
+        let mut mesh =
+            Mesh::from_indexed(mesh).map_err(|source| TrackError::Mesh { frame: 0, source })?;
+        mesh.reserve_ids_below(next_id);
+        Self::with_mesh(mesh, edge_length, options)
+    }
+
+    fn with_mesh(mesh: Mesh, edge_length: f32, options: &TrackOptions) -> Result<Self, TrackError> {
+        if !(edge_length.is_finite() && edge_length > 0.0) {
+            return Err(TrackError::EdgeLength(edge_length));
+        }
+        let grid = GridFrame::new(glam::Vec3::ZERO, options.grid_factor * edge_length)
+            .map_err(|source| TrackError::Grid { frame: 0, source })?;
+        let params = ImproveParams {
+            edge_length,
+            ..options.improve.clone()
+        };
+        Ok(Self {
+            mesh,
+            options: options.clone(),
+            params,
+            grid,
+        })
+    }
+
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// The target edge length `L` every relative parameter is measured in.
+    pub fn edge_length(&self) -> f32 {
+        self.params.edge_length
+    }
+
+    /// Lines 4–12 of Algorithm 1 for frame `frame` with target `target`.
+    pub fn step(
+        &mut self,
+        backend: &Backend,
+        frame: usize,
+        target: &IndexedMesh,
+    ) -> Result<(EventList, FrameLog), TrackError> {
+        let start = Instant::now();
+        let mut times = StageTimes::default();
+        self.mesh.record_mutations();
+        let mut events = EventList::new();
+
+        let t = Instant::now();
+        let registration = register(backend, &mut self.mesh, target, &self.options.register)
+            .map_err(|source| TrackError::Register { frame, source })?;
+        times.register = ms(t.elapsed());
+
+        let t = Instant::now();
+        improve(&mut self.mesh, &self.params)
+            .map_err(|source| TrackError::Improve { frame, source })?;
+        times.improve += ms(t.elapsed());
+        events.extend(EventList::drain(&mut self.mesh));
+
+        let t = Instant::now();
+        let phi_m = Field::signed_distance(self.grid, &self.mesh.to_indexed())
+            .map_err(|source| TrackError::Topology { frame, source })?;
+        let merged = constrain_topology(&mut self.mesh, &phi_m, &self.options.topology)
+            .map_err(|source| TrackError::Topology { frame, source })?;
+        times.topology_self = ms(t.elapsed());
+        events.extend(EventList::drain(&mut self.mesh));
+        let self_changed = merged.changed();
+        events.extend(merged.events);
+        self.mesh.record_mutations();
+
+        let t = Instant::now();
+        let phi_t = Field::signed_distance(self.grid, target)
+            .map_err(|source| TrackError::Topology { frame, source })?;
+        let constrained = constrain_topology(&mut self.mesh, &phi_t, &self.options.topology)
+            .map_err(|source| TrackError::Topology { frame, source })?;
+        times.topology_target = ms(t.elapsed());
+        events.extend(EventList::drain(&mut self.mesh));
+        let target_changed = constrained.changed();
+        events.extend(constrained.events);
+        self.mesh.record_mutations();
+
+        let t = Instant::now();
+        improve(&mut self.mesh, &self.params)
+            .map_err(|source| TrackError::Improve { frame, source })?;
+        times.improve += ms(t.elapsed());
+        events.extend(EventList::drain(&mut self.mesh));
+        self.mesh.compact();
+
+        let residual = self.residual(backend, target, frame, &mut times)?;
+        times.total = ms(start.elapsed());
+        let log = self.log(
+            frame,
+            &events,
+            residual,
+            registration.converged(),
+            self_changed || target_changed,
+            times,
+        );
+        Ok((events, log))
+    }
+
+    /// Mean and largest distance from the tracked vertices to `target`, in units of `L`.
+    fn residual(
+        &self,
+        backend: &Backend,
+        target: &IndexedMesh,
+        frame: usize,
+        times: &mut StageTimes,
+    ) -> Result<(f64, f64), TrackError> {
+        let t = Instant::now();
+        let project = |source| TrackError::Project { frame, source };
+        let bvh = Bvh::build(target).map_err(project)?;
+        let points: Vec<glam::Vec3> = self
+            .mesh
+            .vertices()
+            .map(|v| self.mesh.position(v))
+            .collect();
+        let nearest = closest_points(backend, &bvh, &points, f32::INFINITY).map_err(project)?;
+        let l = f64::from(self.params.edge_length);
+        let (mut sum, mut max) = (0.0f64, 0.0f64);
+        for n in &nearest {
+            let d = f64::from(n.distance.abs()) / l;
+            sum += d;
+            max = max.max(d);
+        }
+        times.residual = ms(t.elapsed());
+        Ok((sum / nearest.len().max(1) as f64, max))
+    }
+
+    fn log(
+        &self,
+        frame: usize,
+        events: &EventList,
+        (residual_mean, residual_max): (f64, f64),
+        registration_converged: bool,
+        topology_changed: bool,
+        times: StageTimes,
+    ) -> FrameLog {
+        FrameLog {
+            frame,
+            vertices: self.mesh.vertex_count(),
+            faces: self.mesh.face_count(),
+            events: EventCounts::of(events),
+            residual_mean,
+            residual_max,
+            registration_converged,
+            topology_changed,
+            times,
+        }
+    }
+}
