@@ -1,5 +1,6 @@
 //! Subcommands and their arguments (clap); each subcommand lives in its own file.
 
+mod bench;
 mod error;
 mod eval;
 mod inspect;
@@ -33,6 +34,9 @@ enum Command {
     /// Track a frame sequence (Algorithm 1): write one coherent deforming mesh (persistent vertex
     /// ids) and per-frame event lists into OUT.
     Track(track::TrackArgs),
+    /// Time every stage of tracking on ~16k- and ~100k-vertex synthetic sequences, CPU and GPU
+    /// paths side by side, and report peak memory.
+    Bench(bench::BenchArgs),
     /// Carry per-vertex data through a tracked sequence using its event lists (paper §4.6): a
     /// checkerboard or image colour, texture coordinates, an attribute painted on a mesh, optionally
     /// as a displacement along normals. Writes PLY (id + channels) and/or OBJ (vt, vertex colours).
@@ -48,6 +52,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Inspect(args) => inspect::run(&args),
         Command::Synth(args) => synth::run(&args),
         Command::Track(args) => track::run(&args),
+        Command::Bench(args) => bench::run(&args),
         Command::Propagate(args) => propagate::run(&args),
         Command::Eval(args) => eval::run(&args),
     }
