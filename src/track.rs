@@ -227,7 +227,7 @@ impl Tracker {
         events.extend(EventList::drain(&mut self.mesh));
 
         let t = Instant::now();
-        let phi_m = Field::signed_distance(self.grid, &self.mesh.to_indexed())
+        let phi_m = Field::signed_distance(backend, self.grid, &self.mesh.to_indexed())
             .map_err(|source| TrackError::Topology { frame, source })?;
         let merged = constrain_topology(&mut self.mesh, &phi_m, &self.options.topology)
             .map_err(|source| TrackError::Topology { frame, source })?;
@@ -238,7 +238,7 @@ impl Tracker {
         self.mesh.record_mutations();
 
         let t = Instant::now();
-        let phi_t = Field::signed_distance(self.grid, target)
+        let phi_t = Field::signed_distance(backend, self.grid, target)
             .map_err(|source| TrackError::Topology { frame, source })?;
         let constrained = constrain_topology(&mut self.mesh, &phi_t, &self.options.topology)
             .map_err(|source| TrackError::Topology { frame, source })?;

@@ -1,6 +1,7 @@
 //! Subcommands and their arguments (clap); each subcommand lives in its own file.
 
 mod bench;
+mod demo;
 mod error;
 mod eval;
 mod inspect;
@@ -37,6 +38,9 @@ enum Command {
     /// Time every stage of tracking on ~16k- and ~100k-vertex synthetic sequences, CPU and GPU
     /// paths side by side, and report peak memory.
     Bench(bench::BenchArgs),
+    /// Run the whole pipeline on built-in scenes with a merge and a split: generate, track,
+    /// propagate a checker texture forward, evaluate; everything goes under ./surftrack-demo/.
+    Demo(demo::DemoArgs),
     /// Carry per-vertex data through a tracked sequence using its event lists (paper §4.6): a
     /// checkerboard or image colour, texture coordinates, an attribute painted on a mesh, optionally
     /// as a displacement along normals. Writes PLY (id + channels) and/or OBJ (vt, vertex colours).
@@ -53,6 +57,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Synth(args) => synth::run(&args),
         Command::Track(args) => track::run(&args),
         Command::Bench(args) => bench::run(&args),
+        Command::Demo(args) => demo::run(&args),
         Command::Propagate(args) => propagate::run(&args),
         Command::Eval(args) => eval::run(&args),
     }
