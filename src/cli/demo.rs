@@ -42,15 +42,18 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     let frames = args.frames.to_string();
     for scene in ["merge", "split"] {
         let dir = args.out.join(scene);
-        let (input, tracked, checker) =
-            (dir.join("input"), dir.join("tracked"), dir.join("checker"));
+        let (input, tracked, checker) = (
+            text(&dir.join("input")),
+            text(&dir.join("tracked")),
+            text(&dir.join("checker")),
+        );
         let force: &[&str] = if args.force { &["--force"] } else { &[] };
         let synth = [
             &[
                 "synth",
                 scene,
                 "-o",
-                &text(&input),
+                &input,
                 "--resolution",
                 &resolution,
                 "--frames",
@@ -62,14 +65,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
         run_command(&synth)?;
         run_command(
             &[
-                &[
-                    "track",
-                    &text(&input),
-                    "-o",
-                    &text(&tracked),
-                    "--backend",
-                    "cpu",
-                ][..],
+                &["track", &input, "-o", &tracked, "--backend", "cpu"][..],
                 force,
             ]
             .concat(),
@@ -78,11 +74,11 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
             &[
                 &[
                     "propagate",
-                    &text(&tracked),
+                    &tracked,
                     "--forward",
                     "--checker",
                     "-o",
-                    &text(&checker),
+                    &checker,
                     "--format",
                     "both",
                 ][..],
@@ -90,7 +86,7 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
             ]
             .concat(),
         )?;
-        run_command(&["eval", &text(&tracked)])?;
+        run_command(&["eval", &tracked])?;
     }
     println!(
         "\nDone. Look at:\n  {0}/*/tracked/frames/  the coherent tracked meshes (PLY, persistent `id` per vertex)\n  {0}/*/tracked/events/  the per-frame event lists (docs/event_format.md)\n  {0}/*/checker/         the checker texture carried forward (OBJ with vertex colours, PLY)\n  {0}/*/tracked/eval.json the evaluation above as JSON",
