@@ -157,3 +157,36 @@ fn topology_errors_come_from_validation() {
         MeshError::InconsistentOrientation { .. }
     ));
 }
+
+#[test]
+fn ascii_ply_errors_name_their_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let header = "ply\r\nformat ascii 1.0\r\nelement vertex 3\r\nproperty float x\r\n\
+                  property float y\r\nproperty float z\r\nelement face 1\r\n\
+                  property list uchar int vertex_index\r\nend_header\r\n";
+    let cases = [
+        ("0 0 0\r\n1 0 inf\r\n0 1 0\r\n3 0 1 2\r\n", 11, "non-finite"),
+        (
+            "0 0 0\r\n\r\n1 0 0\r\n0 1 x\r\n3 0 1 2\r\n",
+            13,
+            "not a number",
+        ),
+        (
+            "0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 3\r\n",
+            13,
+            "vertex index 3",
+        ),
+        (
+            "0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1\r\n",
+            13,
+            "ends before all its values",
+        ),
+    ];
+    for (body, line, fragment) in cases {
+        let path = dir.path().join("case.ply");
+        std::fs::write(&path, format!("{header}{body}")).unwrap();
+        let message = read_frame(&path).unwrap_err().to_string();
+        assert!(message.contains(&format!("line {line}:")), "{message}");
+        assert!(message.contains(fragment), "{message}");
+    }
+}

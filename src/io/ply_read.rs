@@ -21,7 +21,7 @@ pub(crate) fn read_ply(path: &Path) -> Result<IndexedMesh, IoError> {
     let header = parse_header(path, &data)?;
     let layout = Layout::new(path, &header)?;
     let body = &data[header.body_offset..];
-    let mut mesh = match header.encoding {
+    let mesh = match header.encoding {
         PlyEncoding::Ascii => walk(
             path,
             &header.elements,
@@ -45,9 +45,6 @@ pub(crate) fn read_ply(path: &Path) -> Result<IndexedMesh, IoError> {
         return Err(IoError::Empty {
             path: path.to_path_buf(),
         });
-    }
-    if !layout.has_id {
-        mesh.ids = None;
     }
     Ok(mesh)
 }
@@ -138,7 +135,7 @@ fn walk<V: Values>(
         }
     }
     let mut mesh = IndexedMesh::new(sink.positions, sink.triangles);
-    mesh.ids = Some(sink.ids);
+    mesh.ids = layout.has_id.then_some(sink.ids);
     let mut offset = 0;
     for (name, components) in &layout.attributes {
         let values = sink
