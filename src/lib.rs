@@ -3,11 +3,15 @@
 //! with Evolving Topology").
 
 pub mod compute;
+pub mod eval;
 pub mod events;
 pub mod grid;
 pub mod improve;
 pub mod io;
 pub mod mesh;
 pub mod project;
+pub mod propagate;
 pub mod register;
 pub mod synth;
+pub mod topology;
+pub mod track;

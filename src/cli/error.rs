@@ -1,6 +1,9 @@
 use std::path::PathBuf;
+use surftrack::compute::ComputeError;
+use surftrack::eval::EvalError;
 use surftrack::io::IoError;
 use surftrack::mesh::MeshError;
+use surftrack::propagate::PropagateError;
 use surftrack::synth::SynthError;
 use thiserror::Error;
 
@@ -19,6 +22,21 @@ pub enum CliError {
     Manifest { path: PathBuf, message: String },
     #[error("{}: frame topology disagrees with the manifest in {count} frame(s) (see above)", path.display())]
     ManifestMismatch { path: PathBuf, count: usize },
+    #[error(transparent)]
+    Track(#[from] surftrack::track::TrackError),
+    #[error("cannot create {}: {source}", path.display())]
+    Create {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     #[error("cannot write the JSON summary: {0}")]
     Json(#[from] serde_json::Error),
+    #[error(transparent)]
+    Compute(#[from] ComputeError),
+    #[error(transparent)]
+    Propagate(#[from] PropagateError),
+    #[error(transparent)]
+    Eval(#[from] EvalError),
+    #[error("{failing} of {total} tracked frames fail the bars (see the table)")]
+    EvalFailed { failing: usize, total: usize },
 }

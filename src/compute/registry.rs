@@ -6,6 +6,13 @@
 
 use super::ComputeError;
 use super::aabb::Aabb;
+use crate::grid::{
+    BandChunk, DistanceParams, GridCrossing, LatticePoint, Nearest, TreeNode, TreeTriangle,
+    TriangleBox, WindingRun,
+};
+use crate::project::{
+    BvhNode, BvhTriangle, Correspondence, NormalTriple, PseudoNormals, QueryParams,
+};
 
 /// A WGSL file of declarations (structs, constants, functions) that kernels share.
 ///
@@ -24,10 +31,42 @@ impl SharedWgsl {
         path: "kernels/shared/aabb.wgsl",
         source: include_str!("../../kernels/shared/aabb.wgsl"),
     };
+
+    pub const BVH: SharedWgsl = SharedWgsl {
+        path: "kernels/shared/bvh.wgsl",
+        source: include_str!("../../kernels/shared/bvh.wgsl"),
+    };
+
+    pub const LATTICE: SharedWgsl = SharedWgsl {
+        path: "kernels/shared/lattice.wgsl",
+        source: include_str!("../../kernels/shared/lattice.wgsl"),
+    };
+
+    pub const EXACT: SharedWgsl = SharedWgsl {
+        path: "kernels/shared/exact.wgsl",
+        source: include_str!("../../kernels/shared/exact.wgsl"),
+    };
+
+    pub const CROSSING: SharedWgsl = SharedWgsl {
+        path: "kernels/shared/crossing.wgsl",
+        source: include_str!("../../kernels/shared/crossing.wgsl"),
+    };
+
+    pub const DISTANCE: SharedWgsl = SharedWgsl {
+        path: "kernels/shared/distance.wgsl",
+        source: include_str!("../../kernels/shared/distance.wgsl"),
+    };
 }
 
 /// Every shared WGSL file.
-pub const SHARED: &[SharedWgsl] = &[SharedWgsl::AABB];
+pub const SHARED: &[SharedWgsl] = &[
+    SharedWgsl::AABB,
+    SharedWgsl::BVH,
+    SharedWgsl::LATTICE,
+    SharedWgsl::EXACT,
+    SharedWgsl::CROSSING,
+    SharedWgsl::DISTANCE,
+];
 
 /// How a kernel accesses one of its storage buffers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -80,29 +119,198 @@ impl KernelInfo {
 }
 
 /// Every kernel.
-pub const KERNELS: &[KernelInfo] = &[KernelInfo {
-    name: "triangle_bounds",
-    path: "kernels/triangle_bounds.wgsl",
-    source: include_str!("../../kernels/triangle_bounds.wgsl"),
-    shared: &[SharedWgsl::AABB],
-    entry_point: "main",
-    workgroup_size: 64,
-    bindings: &[
-        Binding {
-            name: "positions",
-            access: Access::Read,
-        },
-        Binding {
-            name: "triangles",
-            access: Access::Read,
-        },
-        Binding {
-            name: "bounds",
-            access: Access::ReadWrite,
-        },
-    ],
-    cpu_twin: "src/compute/triangle_bounds.rs",
-}];
+pub const KERNELS: &[KernelInfo] = &[
+    KernelInfo {
+        name: "triangle_bounds",
+        path: "kernels/triangle_bounds.wgsl",
+        source: include_str!("../../kernels/triangle_bounds.wgsl"),
+        shared: &[SharedWgsl::AABB],
+        entry_point: "main",
+        workgroup_size: 64,
+        bindings: &[
+            Binding {
+                name: "positions",
+                access: Access::Read,
+            },
+            Binding {
+                name: "triangles",
+                access: Access::Read,
+            },
+            Binding {
+                name: "bounds",
+                access: Access::ReadWrite,
+            },
+        ],
+        cpu_twin: "src/compute/triangle_bounds.rs",
+    },
+    KernelInfo {
+        name: "project",
+        path: "kernels/project.wgsl",
+        source: include_str!("../../kernels/project.wgsl"),
+        shared: &[SharedWgsl::BVH],
+        entry_point: "main",
+        workgroup_size: 64,
+        bindings: &[
+            Binding {
+                name: "params",
+                access: Access::Read,
+            },
+            Binding {
+                name: "nodes",
+                access: Access::Read,
+            },
+            Binding {
+                name: "triangles",
+                access: Access::Read,
+            },
+            Binding {
+                name: "normals",
+                access: Access::Read,
+            },
+            Binding {
+                name: "points",
+                access: Access::Read,
+            },
+            Binding {
+                name: "directions",
+                access: Access::Read,
+            },
+            Binding {
+                name: "correspondences",
+                access: Access::ReadWrite,
+            },
+        ],
+        cpu_twin: "src/project/cpu/project.rs",
+    },
+    KernelInfo {
+        name: "closest_point",
+        path: "kernels/closest_point.wgsl",
+        source: include_str!("../../kernels/closest_point.wgsl"),
+        shared: &[SharedWgsl::BVH],
+        entry_point: "main",
+        workgroup_size: 64,
+        bindings: &[
+            Binding {
+                name: "params",
+                access: Access::Read,
+            },
+            Binding {
+                name: "nodes",
+                access: Access::Read,
+            },
+            Binding {
+                name: "triangles",
+                access: Access::Read,
+            },
+            Binding {
+                name: "normals",
+                access: Access::Read,
+            },
+            Binding {
+                name: "pseudo_normals",
+                access: Access::Read,
+            },
+            Binding {
+                name: "points",
+                access: Access::Read,
+            },
+            Binding {
+                name: "correspondences",
+                access: Access::ReadWrite,
+            },
+        ],
+        cpu_twin: "src/project/cpu/closest_point.rs",
+    },
+    KernelInfo {
+        name: "rasterize",
+        path: "kernels/rasterize.wgsl",
+        source: include_str!("../../kernels/rasterize.wgsl"),
+        shared: &[SharedWgsl::LATTICE, SharedWgsl::EXACT, SharedWgsl::CROSSING],
+        entry_point: "main",
+        workgroup_size: 64,
+        bindings: &[
+            Binding {
+                name: "points",
+                access: Access::Read,
+            },
+            Binding {
+                name: "triangles",
+                access: Access::Read,
+            },
+            Binding {
+                name: "offsets",
+                access: Access::Read,
+            },
+            Binding {
+                name: "crossings",
+                access: Access::ReadWrite,
+            },
+            Binding {
+                name: "count",
+                access: Access::ReadWrite,
+            },
+        ],
+        cpu_twin: "src/grid/rasterize.rs",
+    },
+    KernelInfo {
+        name: "sweep",
+        path: "kernels/sweep.wgsl",
+        source: include_str!("../../kernels/sweep.wgsl"),
+        shared: &[SharedWgsl::CROSSING],
+        entry_point: "main",
+        workgroup_size: 64,
+        bindings: &[
+            Binding {
+                name: "crossings",
+                access: Access::Read,
+            },
+            Binding {
+                name: "starts",
+                access: Access::Read,
+            },
+            Binding {
+                name: "runs",
+                access: Access::ReadWrite,
+            },
+        ],
+        cpu_twin: "src/grid/sweep.rs",
+    },
+    KernelInfo {
+        name: "distance",
+        path: "kernels/distance.wgsl",
+        source: include_str!("../../kernels/distance.wgsl"),
+        shared: &[SharedWgsl::DISTANCE],
+        entry_point: "main",
+        workgroup_size: 64,
+        bindings: &[
+            Binding {
+                name: "params",
+                access: Access::Read,
+            },
+            Binding {
+                name: "nodes",
+                access: Access::Read,
+            },
+            Binding {
+                name: "triangles",
+                access: Access::Read,
+            },
+            Binding {
+                name: "boxes",
+                access: Access::Read,
+            },
+            Binding {
+                name: "chunks",
+                access: Access::Read,
+            },
+            Binding {
+                name: "nearest",
+                access: Access::ReadWrite,
+            },
+        ],
+        cpu_twin: "src/grid/distance.rs",
+    },
+];
 
 /// Looks a kernel up by name.
 pub fn kernel(name: &str) -> Result<&'static KernelInfo, ComputeError> {
@@ -124,4 +332,21 @@ pub struct GpuStructLayout {
 }
 
 /// Every Rust struct mirrored in WGSL.
-pub const GPU_STRUCTS: &[GpuStructLayout] = &[Aabb::LAYOUT];
+pub const GPU_STRUCTS: &[GpuStructLayout] = &[
+    Aabb::LAYOUT,
+    BvhNode::LAYOUT,
+    BvhTriangle::LAYOUT,
+    NormalTriple::LAYOUT,
+    PseudoNormals::LAYOUT,
+    Correspondence::LAYOUT,
+    QueryParams::LAYOUT,
+    LatticePoint::LAYOUT,
+    GridCrossing::LAYOUT,
+    WindingRun::LAYOUT,
+    TreeNode::LAYOUT,
+    TreeTriangle::LAYOUT,
+    Nearest::LAYOUT,
+    DistanceParams::LAYOUT,
+    TriangleBox::LAYOUT,
+    BandChunk::LAYOUT,
+];

@@ -29,7 +29,7 @@ mod sweep_gpu;
 mod triangle_tree;
 
 pub use crossing::GridCrossing;
-pub use distance::{NarrowBand, Nearest, signed_distance};
+pub use distance::{STATS, BandChunk, NarrowBand, Nearest, signed_distance};
 pub use distance_gpu::DistanceParams;
 pub use lattice::{
     CELL_UNITS, FRACTION_BITS, GridFrame, LatticeMesh, LatticePoint, MAX_CELL_INDEX,
@@ -45,4 +45,4 @@ pub use rasterize_gpu::GpuRasterize;
 pub use sparse::{Crossings, GridLine, LineIndex};
 pub use sweep::{CornerWindings, WindingRun, Windings, sweep};
 pub use sweep_gpu::GpuSweep;
-pub use triangle_tree::{TreeNode, TreeTriangle};
+pub use triangle_tree::{TreeNode, TreeTriangle, TriangleBox};

@@ -1,0 +1,3 @@
+#[path = "../tests/topology_cases.rs"]
+mod cases;
+fn main() {}

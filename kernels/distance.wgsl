@@ -1,0 +1,285 @@
+// Narrow-band distance: the nearest triangle of each candidate corner, within the band.
+// CPU twin: src/grid/distance.rs (`chunk_nearest`, the body of `main`) with
+// src/grid/triangle_tree.rs (`gather`, `nearest`, `point_triangle_distance_squared`), line for
+// line. Prepended: shared/distance.wgsl.
+//
+// One invocation per chunk of up to 16 corners along x: the triangles whose boxes lie within the
+// band of the chunk's segment are gathered once; each corner bounds every gathered triangle's
+// distance from below (the larger of its box's and its plane's), tests the one with the least
+// bound first, then those whose bound is below the best so far. A chunk near more than
+// GATHER_CAPACITY triangles searches the tree once per corner instead.
+
+@group(0) @binding(0) var<storage, read> params: array<DistanceParams>;
+@group(0) @binding(1) var<storage, read> nodes: array<TreeNode>;
+@group(0) @binding(2) var<storage, read> triangles: array<TreeTriangle>;
+@group(0) @binding(3) var<storage, read> boxes: array<TriangleBox>;
+@group(0) @binding(4) var<storage, read> chunks: array<BandChunk>;
+@group(0) @binding(5) var<storage, read_write> nearest: array<Nearest>;
+
+const WORKGROUP_SIZE: u32 = 64u;
+
+fn vec(a: array<f32, 3>) -> vec3<f32> {
+    return vec3<f32>(a[0], a[1], a[2]);
+}
+
+fn box_distance_squared(lo: vec3<f32>, hi: vec3<f32>, p: vec3<f32>) -> f32 {
+    let d = max(max(lo - p, p - hi), vec3<f32>(0.0));
+    return d.x * d.x + d.y * d.y + d.z * d.z;
+}
+
+fn node_distance_squared(n: u32, p: vec3<f32>) -> f32 {
+    return box_distance_squared(vec(nodes[n].min), vec(nodes[n].max), p);
+}
+
+// Squared distance between the boxes lo..hi and min..max.
+fn boxes_distance_squared(lo: vec3<f32>, hi: vec3<f32>, min_: vec3<f32>, max_: vec3<f32>) -> f32 {
+    let g = max(max(min_ - hi, lo - max_), vec3<f32>(0.0));
+    return g.x * g.x + g.y * g.y + g.z * g.z;
+}
+
+fn dot3(a: vec3<f32>, b: vec3<f32>) -> f32 {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+fn segment_distance_squared(p: vec3<f32>, a: vec3<f32>, b: vec3<f32>) -> f32 {
+    let ab = b - a;
+    let len = dot3(ab, ab);
+    var s = 0.0;
+    if len > 0.0 {
+        s = clamp(dot3(p - a, ab) / len, 0.0, 1.0);
+    }
+    let q = p - (a + ab * s);
+    return dot3(q, q);
+}
+
+fn point_triangle_distance_squared(p: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> f32 {
+    let ab = b - a;
+    let ac = c - a;
+    let ap = p - a;
+    let d1 = dot3(ab, ap);
+    let d2 = dot3(ac, ap);
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return dot3(ap, ap);
+    }
+    let bp = p - b;
+    let d3 = dot3(ab, bp);
+    let d4 = dot3(ac, bp);
+    if d3 >= 0.0 && d4 <= d3 {
+        return dot3(bp, bp);
+    }
+    let cp = p - c;
+    let d5 = dot3(ab, cp);
+    let d6 = dot3(ac, cp);
+    if d6 >= 0.0 && d5 <= d6 {
+        return dot3(cp, cp);
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 && d1 - d3 > 0.0 {
+        let q = p - (a + ab * (d1 / (d1 - d3)));
+        return dot3(q, q);
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 && d2 - d6 > 0.0 {
+        let q = p - (a + ac * (d2 / (d2 - d6)));
+        return dot3(q, q);
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 && (d4 - d3) + (d5 - d6) > 0.0 {
+        let q = p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))));
+        return dot3(q, q);
+    }
+    let sum = va + vb + vc;
+    if sum > 0.0 {
+        let q = p - (a + ab * (vb / sum) + ac * (vc / sum));
+        return dot3(q, q);
+    }
+    return min(min(segment_distance_squared(p, a, b), segment_distance_squared(p, b, c)),
+        segment_distance_squared(p, c, a));
+}
+
+fn triangle_distance_squared(slot: u32, corner: vec3<i32>) -> f32 {
+    let t = triangles[slot];
+    let p = vec3<f32>(corner - vec3<i32>(t.base[0], t.base[1], t.base[2]));
+    return point_triangle_distance_squared(p, vec(t.a), vec(t.b), vec(t.c));
+}
+
+struct Best {
+    distance_squared: f32,
+    slot: u32,
+}
+
+// A full traversal, nearer child first, pruned by the best so far.
+fn search(corner: vec3<i32>, p: vec3<f32>, start: Best) -> Best {
+    var best = start;
+    var stack: array<u32, TREE_STACK_SIZE>;
+    var depth = 0u;
+    var node = 0u;
+    loop {
+        let count = nodes[node].count;
+        var descend = false;
+        if count > 0u {
+            let first = nodes[node].index;
+            for (var slot = first; slot < first + count; slot += 1u) {
+                let d = triangle_distance_squared(slot, corner);
+                if d < best.distance_squared {
+                    best = Best(d, slot);
+                }
+            }
+        } else {
+            let left = node + 1u;
+            let right = nodes[node].index;
+            let dl = node_distance_squared(left, p);
+            let dr = node_distance_squared(right, p);
+            var near = left;
+            var far = right;
+            var dn = dl;
+            var df = dr;
+            if dl > dr {
+                near = right;
+                far = left;
+                dn = dr;
+                df = dl;
+            }
+            if dn < best.distance_squared {
+                if df < best.distance_squared {
+                    stack[depth] = far;
+                    depth += 1u;
+                }
+                node = near;
+                descend = true;
+            }
+        }
+        if descend {
+            continue;
+        }
+        // Pop the next subtree still closer than the best so far.
+        var done = true;
+        while depth > 0u {
+            depth -= 1u;
+            node = stack[depth];
+            if node_distance_squared(node, p) < best.distance_squared {
+                done = false;
+                break;
+            }
+        }
+        if done {
+            break;
+        }
+    }
+    return best;
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
+    let q = (wg.y * groups.x + wg.x) * WORKGROUP_SIZE + lane;
+    if q >= arrayLength(&chunks) {
+        return;
+    }
+    let chunk = chunks[q];
+    let first = vec3<i32>(chunk.first[0], chunk.first[1], chunk.first[2]);
+    let base = vec3<i32>(params[0].base[0], params[0].base[1], params[0].base[2]);
+    let bound = params[0].bound;
+    let lo = vec3<f32>(first - base);
+    let hi = lo + vec3<f32>(f32(chunk.len - 1u), 0.0, 0.0);
+
+    // `gather`: a traversal collecting every triangle whose box is within the band of lo..hi.
+    var slots: array<u32, GATHER_CAPACITY>;
+    var gathered = 0u;
+    var complete = true;
+    var stack: array<u32, TREE_STACK_SIZE>;
+    var depth = 0u;
+    var node = 0u;
+    loop {
+        if boxes_distance_squared(lo, hi, vec(nodes[node].min), vec(nodes[node].max)) < bound {
+            let count = nodes[node].count;
+            if count > 0u {
+                let start = nodes[node].index;
+                for (var slot = start; slot < start + count; slot += 1u) {
+                    if boxes_distance_squared(lo, hi, vec(boxes[slot].min), vec(boxes[slot].max))
+                        < bound {
+                        if gathered == GATHER_CAPACITY {
+                            complete = false;
+                            break;
+                        }
+                        slots[gathered] = slot;
+                        gathered += 1u;
+                    }
+                }
+                if !complete {
+                    break;
+                }
+            } else {
+                stack[depth] = nodes[node].index;
+                depth += 1u;
+                node += 1u;
+                continue;
+            }
+        }
+        if depth == 0u {
+            break;
+        }
+        depth -= 1u;
+        node = stack[depth];
+    }
+
+    if !complete {
+        for (var i = 0u; i < chunk.len; i += 1u) {
+            let corner = first + vec3<i32>(i32(i), 0, 0);
+            let best = search(corner, vec3<f32>(corner - base), Best(bound, NO_SLOT));
+            nearest[chunk.out + i] = Nearest(best.distance_squared, best.slot);
+        }
+        return;
+    }
+
+    // The parts of each gathered triangle's lower bound that do not depend on x.
+    var across: array<f32, GATHER_CAPACITY>;
+    var plane: array<f32, GATHER_CAPACITY>;
+    var bounds: array<f32, GATHER_CAPACITY>;
+    for (var k = 0u; k < gathered; k += 1u) {
+        let slot = slots[k];
+        let gap = max(max(vec(boxes[slot].min) - lo, lo - vec(boxes[slot].max)), vec3<f32>(0.0));
+        across[k] = gap.y * gap.y + gap.z * gap.z;
+        let t = triangles[slot];
+        let p = vec3<f32>(first - vec3<i32>(t.base[0], t.base[1], t.base[2]));
+        plane[k] = t.normal[0] * p.x + t.normal[1] * p.y + t.normal[2] * p.z - t.offset;
+    }
+
+    for (var i = 0u; i < chunk.len; i += 1u) {
+        let x = lo.x + f32(i);
+        let corner = first + vec3<i32>(i32(i), 0, 0);
+        var least_k = 0u;
+        var least = bitcast<f32>(0x7f800000u);
+        for (var k = 0u; k < gathered; k += 1u) {
+            let slot = slots[k];
+            let gap = max(max(boxes[slot].min[0] - x, x - boxes[slot].max[0]), 0.0);
+            let to_plane = max(abs(plane[k] + triangles[slot].normal[0] * f32(i)) - PLANE_SLACK,
+                0.0);
+            let lower = max(across[k] + gap * gap, to_plane * to_plane);
+            bounds[k] = lower;
+            if lower < least {
+                least = lower;
+                least_k = k;
+            }
+        }
+        var best = Best(bound, NO_SLOT);
+        if least < best.distance_squared {
+            let d = triangle_distance_squared(slots[least_k], corner);
+            if d < best.distance_squared {
+                best = Best(d, slots[least_k]);
+            }
+        }
+        for (var k = 0u; k < gathered; k += 1u) {
+            if bounds[k] < best.distance_squared && k != least_k {
+                let d = triangle_distance_squared(slots[k], corner);
+                if d < best.distance_squared {
+                    best = Best(d, slots[k]);
+                }
+            }
+        }
+        nearest[chunk.out + i] = Nearest(best.distance_squared, best.slot);
+    }
+}

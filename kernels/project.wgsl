@@ -1,0 +1,225 @@
+// Correspondence projection (paper §4.2): for each source point p with unit normal n, the nearest
+// hit of the line p + t·n on the target in either direction, found in one stack traversal of the
+// BVH ordered by |t|, with watertight ray–triangle tests (Woop, Benthin & Wald 2013).
+// CPU twin: src/project/cpu/project.rs. Prepended: shared/bvh.wgsl.
+
+@group(0) @binding(0) var<storage, read> params: QueryParams;
+@group(0) @binding(1) var<storage, read> nodes: array<BvhNode>;
+@group(0) @binding(2) var<storage, read> triangles: array<BvhTriangle>;
+@group(0) @binding(3) var<storage, read> normals: array<NormalTriple>;
+@group(0) @binding(4) var<storage, read> points: array<array<f32, 3>>;
+@group(0) @binding(5) var<storage, read> directions: array<array<f32, 3>>;
+@group(0) @binding(6) var<storage, read_write> correspondences: array<Correspondence>;
+
+const WORKGROUP_SIZE: u32 = 64u;
+// Box intervals are widened by 4ε ≥ 2γ₃ (Ize 2013) so rounding never culls a box the line enters.
+const WIDEN: f32 = 4.76837158e-7;
+// Smaller direction components are replaced by ±this before the reciprocal: no NaN, no infinity.
+const MIN_DIRECTION: f32 = 1e-18;
+const MISS_KEY: f32 = -1.0;
+
+struct Slabs {
+    origin: vec3<f32>,
+    inv: vec3<f32>,
+}
+
+fn safe_component(d: f32) -> f32 {
+    if abs(d) < MIN_DIRECTION {
+        return select(MIN_DIRECTION, -MIN_DIRECTION, d < 0.0);
+    }
+    return d;
+}
+
+fn make_slabs(origin: vec3<f32>, direction: vec3<f32>) -> Slabs {
+    let safe = vec3<f32>(safe_component(direction.x), safe_component(direction.y), safe_component(direction.z));
+    return Slabs(origin, vec3<f32>(1.0) / safe);
+}
+
+// min |t| over the line's parameters inside the node's box and inside [lo, hi], or MISS_KEY.
+fn slab_key(slabs: Slabs, node: BvhNode, lo: f32, hi: f32) -> f32 {
+    let t0 = (node.min - slabs.origin) * slabs.inv;
+    let t1 = (node.max - slabs.origin) * slabs.inv;
+    let tn = min(t0, t1);
+    let tf = max(t0, t1);
+    let enter_box = max(max(tn.x, tn.y), tn.z);
+    let exit_box = min(min(tf.x, tf.y), tf.z);
+    let enter = max(enter_box - abs(enter_box) * WIDEN, lo);
+    let exit = min(exit_box + abs(exit_box) * WIDEN, hi);
+    if enter <= exit {
+        return max(max(enter, -exit), 0.0);
+    }
+    return MISS_KEY;
+}
+
+// The axis permutation making the direction's largest component z (keeping the winding) and the
+// shear mapping the direction to +z.
+struct Shear {
+    kx: u32,
+    ky: u32,
+    kz: u32,
+    s: vec3<f32>,
+    origin: vec3<f32>,
+}
+
+fn make_shear(origin: vec3<f32>, direction: vec3<f32>) -> Shear {
+    let a = abs(direction);
+    var kz = 2u;
+    if a.x >= a.y && a.x >= a.z {
+        kz = 0u;
+    } else if a.y >= a.z {
+        kz = 1u;
+    }
+    var kx = (kz + 1u) % 3u;
+    var ky = (kz + 2u) % 3u;
+    if direction[kz] < 0.0 {
+        let k = kx;
+        kx = ky;
+        ky = k;
+    }
+    let dz = direction[kz];
+    return Shear(kx, ky, kz, vec3<f32>(direction[kx] / dz, direction[ky] / dz, 1.0 / dz), origin);
+}
+
+fn shear_vertex(shear: Shear, p: vec3<f32>) -> vec3<f32> {
+    let z = p[shear.kz] - shear.origin[shear.kz];
+    return vec3<f32>(
+        p[shear.kx] - shear.origin[shear.kx] - shear.s.x * z,
+        p[shear.ky] - shear.origin[shear.ky] - shear.s.y * z,
+        shear.s.z * z,
+    );
+}
+
+// The 2-D edge function p.x·q.y − p.y·q.x, evaluated on the lexicographically ordered pair and
+// negated when the order was swapped. A GPU compiler may fuse a product-difference into an FMA,
+// which breaks the exact antisymmetry E(p, q) = −E(q, p) watertightness rests on; one expression
+// on the ordered pair restores it. (On the CPU the plain expression is exactly antisymmetric.)
+fn edge_function(p: vec2<f32>, q: vec2<f32>) -> f32 {
+    let swapped = q.x < p.x || (q.x == p.x && q.y < p.y);
+    let lo = select(p, q, swapped);
+    let hi = select(q, p, swapped);
+    let e = lo.x * hi.y - lo.y * hi.x;
+    return select(e, -e, swapped);
+}
+
+struct TriangleHit {
+    hit: bool,
+    t: f32,
+    weights: vec3<f32>,
+}
+
+// Where the ray meets the triangle, at any t (both faces); no hit when it misses or lies in the
+// triangle's plane.
+fn intersect(shear: Shear, tri: BvhTriangle) -> TriangleHit {
+    let a = shear_vertex(shear, tri.a);
+    let b = shear_vertex(shear, tri.b);
+    let c = shear_vertex(shear, tri.c);
+    let u = edge_function(c.xy, b.xy);
+    let v = edge_function(a.xy, c.xy);
+    let w = edge_function(b.xy, a.xy);
+    var result = TriangleHit(false, 0.0, vec3<f32>(0.0));
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return result;
+    }
+    let det = u + v + w;
+    if det == 0.0 {
+        return result;
+    }
+    let rcp = 1.0 / det;
+    result.hit = true;
+    result.t = (u * a.z + v * b.z + w * c.z) * rcp;
+    result.weights = vec3<f32>(u * rcp, v * rcp, w * rcp);
+    return result;
+}
+
+@compute @workgroup_size(WORKGROUP_SIZE)
+fn main(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
+    let i = (wg.y * groups.x + wg.x) * WORKGROUP_SIZE + lane;
+    if i >= arrayLength(&points) {
+        return;
+    }
+    let p = load_vec3(points[i]);
+    let n = load_vec3(directions[i]);
+    if all(n == vec3<f32>(0.0)) {
+        correspondences[i] = miss();
+        return;
+    }
+    let slabs = make_slabs(p, n);
+    let shear = make_shear(p, n);
+    var best = params.max_distance;
+    var best_id = NO_TRIANGLE;
+    var best_slot = NO_TRIANGLE;
+    var best_t = 0.0;
+    var best_weights = vec3<f32>(0.0);
+    var stack_node: array<u32, STACK_SIZE>;
+    var stack_key: array<f32, STACK_SIZE>;
+    var sp = 0u;
+    var node = nodes[0];
+    loop {
+        if node.count > 0u {
+            for (var slot = node.index; slot < node.index + node.count; slot += 1u) {
+                let tri = triangles[slot];
+                let hit = intersect(shear, tri);
+                let distance = abs(hit.t);
+                if hit.hit && (distance < best || (distance == best && tri.id < best_id)) {
+                    best = distance;
+                    best_id = tri.id;
+                    best_slot = slot;
+                    best_t = hit.t;
+                    best_weights = hit.weights;
+                }
+            }
+        } else {
+            let lo = -best;
+            let left = node.index;
+            let key_left = slab_key(slabs, nodes[left], lo, best);
+            let key_right = slab_key(slabs, nodes[left + 1u], lo, best);
+            let hit_left = key_left != MISS_KEY;
+            let hit_right = key_right != MISS_KEY;
+            if hit_left && hit_right {
+                var near = left;
+                var far = left + 1u;
+                var far_key = key_right;
+                if key_right < key_left {
+                    near = left + 1u;
+                    far = left;
+                    far_key = key_left;
+                }
+                stack_node[sp] = far;
+                stack_key[sp] = far_key;
+                sp += 1u;
+                node = nodes[near];
+                continue;
+            }
+            if hit_left || hit_right {
+                node = nodes[select(left + 1u, left, hit_left)];
+                continue;
+            }
+        }
+        var popped = false;
+        while sp > 0u {
+            sp -= 1u;
+            if stack_key[sp] <= best {
+                node = nodes[stack_node[sp]];
+                popped = true;
+                break;
+            }
+        }
+        if !popped {
+            break;
+        }
+    }
+    if best_slot == NO_TRIANGLE {
+        correspondences[i] = miss();
+        return;
+    }
+    let normal = blend(normals[best_slot], best_weights);
+    var status = STATUS_NORMAL_MISMATCH;
+    if dot(normal, n) >= params.cos_max_angle {
+        status = STATUS_ACCEPTED;
+    }
+    correspondences[i] = Correspondence(p + n * best_t, best_t, normal, best_id, best_weights, status);
+}

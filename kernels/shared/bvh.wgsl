@@ -1,0 +1,81 @@
+// BVH layout and query records shared by project.wgsl and closest_point.wgsl. Mirrored by Rust
+// structs in src/project/ (node.rs, triangle.rs, correspondence.rs, options.rs) and constants
+// there (Bvh::STACK_SIZE, Status codes); tests compare both with what naga reports for this file.
+// `vec3<f32>` aligns to 16 bytes, so every vec3 is followed by a 4-byte member, a payload or an
+// explicit padding word written as 0.
+
+// Entries of a traversal stack: the deepest leaf sits fewer levels below the root.
+const STACK_SIZE: u32 = 64u;
+
+const STATUS_MISS: u32 = 0u;
+const STATUS_ACCEPTED: u32 = 1u;
+const STATUS_NORMAL_MISMATCH: u32 = 2u;
+const NO_TRIANGLE: u32 = 0xffffffffu;
+
+// Interior node (count == 0): children at `index` and `index + 1`. Leaf: triangle slots
+// `index .. index + count`.
+struct BvhNode {
+    min: vec3<f32>,
+    index: u32,
+    max: vec3<f32>,
+    count: u32,
+}
+
+// A triangle in leaf order: corners in the target's winding, and its index in the target mesh.
+struct BvhTriangle {
+    a: vec3<f32>,
+    id: u32,
+    b: vec3<f32>,
+    pad_b: u32,
+    c: vec3<f32>,
+    pad_c: u32,
+}
+
+// One vector per corner (a, b, c) or per edge (ab, bc, ca).
+struct NormalTriple {
+    a: vec3<f32>,
+    pad_a: u32,
+    b: vec3<f32>,
+    pad_b: u32,
+    c: vec3<f32>,
+    pad_c: u32,
+}
+
+// Angle-weighted pseudo-normals (Bærentzen & Aanæs 2005) of a triangle's corners and edges.
+struct PseudoNormals {
+    vertices: NormalTriple,
+    edges: NormalTriple,
+}
+
+struct Correspondence {
+    point: vec3<f32>,
+    distance: f32,
+    normal: vec3<f32>,
+    triangle: u32,
+    barycentric: vec3<f32>,
+    status: u32,
+}
+
+struct QueryParams {
+    max_distance: f32,
+    cos_max_angle: f32,
+    pad: array<u32, 2>,
+}
+
+fn load_vec3(p: array<f32, 3>) -> vec3<f32> {
+    return vec3<f32>(p[0], p[1], p[2]);
+}
+
+fn miss() -> Correspondence {
+    return Correspondence(vec3<f32>(0.0), 0.0, vec3<f32>(0.0), NO_TRIANGLE, vec3<f32>(0.0), STATUS_MISS);
+}
+
+// `w.x·a + w.y·b + w.z·c`, normalised (zero when the blend vanishes).
+fn blend(t: NormalTriple, w: vec3<f32>) -> vec3<f32> {
+    let n = t.a * w.x + t.b * w.y + t.c * w.z;
+    let length2 = dot(n, n);
+    if length2 > 0.0 {
+        return n / sqrt(length2);
+    }
+    return vec3<f32>(0.0);
+}

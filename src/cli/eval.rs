@@ -1,0 +1,63 @@
+//! `surftrack eval`: per-frame quality of a tracked sequence against its input, as a table and JSON.
+
+use super::CliError;
+use clap::Args;
+use std::path::PathBuf;
+use surftrack::compute::{Backend, BackendChoice};
+use surftrack::eval::{EvalOptions, evaluate};
+use surftrack::io::atomic_write;
+
+#[derive(Debug, Args)]
+pub struct EvalArgs {
+    /// The output directory of `surftrack track`.
+    tracked: PathBuf,
+    /// The input sequence (directory or pattern). Default: the input frames listed in track.json.
+    #[arg(long)]
+    input: Option<PathBuf>,
+    /// Where to write the JSON report; `-` prints it instead of the table. Default: TRACKED/eval.json.
+    #[arg(long, value_name = "PATH")]
+    json: Option<PathBuf>,
+    /// Where the closest-point queries run.
+    #[arg(long, value_enum, default_value_t = BackendChoice::Cpu)]
+    backend: BackendChoice,
+    /// Minimum angle (degrees) of a good triangle (paper §4.1: 10).
+    #[arg(long, default_value_t = EvalOptions::default().angle_threshold)]
+    min_angle: f32,
+    /// Largest Hausdorff distance to the input, in its mean edge lengths, a frame may have.
+    #[arg(long, default_value_t = EvalOptions::default().max_hausdorff)]
+    max_hausdorff: f32,
+    /// Exit non-zero when any frame fails: not a closed manifold, topology unlike the input's,
+    /// Hausdorff above --max-hausdorff, or under 99% of triangles above --min-angle.
+    #[arg(long)]
+    strict: bool,
+}
+
+pub fn run(args: &EvalArgs) -> Result<(), CliError> {
+    let options = EvalOptions {
+        input: args.input.clone(),
+        backend: Backend::select(args.backend)?,
+        angle_threshold: args.min_angle,
+        max_hausdorff: args.max_hausdorff,
+        ..EvalOptions::default()
+    };
+    let report = evaluate(&args.tracked, &options)?;
+    let json = serde_json::to_vec_pretty(&report)?;
+    match &args.json {
+        Some(path) if path.as_os_str() == "-" => println!("{}", String::from_utf8_lossy(&json)),
+        other => {
+            let path = other
+                .clone()
+                .unwrap_or_else(|| args.tracked.join("eval.json"));
+            print!("{}", report.table());
+            atomic_write(&path, |w| w.write_all(&json))?;
+            println!("JSON report: {}", path.display());
+        }
+    }
+    if args.strict && !report.summary.failing_frames.is_empty() {
+        return Err(CliError::EvalFailed {
+            failing: report.summary.failing_frames.len(),
+            total: report.summary.frames,
+        });
+    }
+    Ok(())
+}

@@ -1,0 +1,148 @@
+//! `surftrack propagate`: carries per-vertex data through a tracked sequence (paper §4.6).
+
+use super::CliError;
+use clap::{ArgGroup, Args, ValueEnum};
+use std::path::PathBuf;
+use surftrack::propagate::{
+    Axis, Channel, Direction, Displace, Projection, PropagateOptions, Texture, propagate,
+};
+
+#[derive(Debug, Args)]
+#[command(group(ArgGroup::new("direction").required(true).args(["forward", "backward"])))]
+pub struct PropagateArgs {
+    /// The output directory of `surftrack track` (frames/ and events/).
+    tracked: PathBuf,
+    /// Start from frame 0 and carry values forward through each transition.
+    #[arg(long)]
+    forward: bool,
+    /// Start from the last frame and carry values backward to frame 0.
+    #[arg(long)]
+    backward: bool,
+    /// Where to write the frames (created; an existing non-empty one needs --force).
+    /// Default: TRACKED/propagated.
+    #[arg(short, long)]
+    out: Option<PathBuf>,
+    /// Write into an existing non-empty output directory, replacing files of the same name.
+    #[arg(long)]
+    force: bool,
+    /// Colour the start frame with a 3-D checkerboard (the default when no other colour is given).
+    #[arg(long)]
+    checker: bool,
+    /// Checker cell size, in mean edge lengths of the start frame.
+    #[arg(long, default_value_t = 8.0)]
+    checker_size: f32,
+    /// Colour the start frame with a PNG image mapped through --projection.
+    #[arg(long, value_name = "PNG")]
+    image: Option<PathBuf>,
+    /// Give the start frame texture coordinates (`uv`) from --projection.
+    #[arg(long)]
+    uv: bool,
+    /// How --image and --uv map the start frame onto the unit square.
+    #[arg(long, value_enum, default_value_t = ProjectionArg::Spherical)]
+    projection: ProjectionArg,
+    /// Carry the vertex attribute NAME of the mesh file given with --from (for example `color`
+    /// painted in Blender on a copy of the start frame).
+    #[arg(long, value_name = "NAME", requires = "from")]
+    attribute: Option<String>,
+    /// The mesh file holding --attribute: matched by persistent id when it has them, else by
+    /// closest point.
+    #[arg(long, value_name = "MESH", requires = "attribute")]
+    from: Option<PathBuf>,
+    /// Displace vertices along their normals by SCALE mean edge lengths times the carried scalar
+    /// (the luminance of the colour, or the --attribute value when it has one component).
+    #[arg(long, value_name = "SCALE")]
+    displace: Option<f32>,
+    /// Frame file format.
+    #[arg(long, value_enum, default_value_t = OutputFormat::Ply)]
+    format: OutputFormat,
+}
+
+/// Projections offered on the command line.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum ProjectionArg {
+    Spherical,
+    PlanarX,
+    PlanarY,
+    PlanarZ,
+}
+
+impl From<ProjectionArg> for Projection {
+    fn from(p: ProjectionArg) -> Projection {
+        match p {
+            ProjectionArg::Spherical => Projection::Spherical,
+            ProjectionArg::PlanarX => Projection::Planar(Axis::X),
+            ProjectionArg::PlanarY => Projection::Planar(Axis::Y),
+            ProjectionArg::PlanarZ => Projection::Planar(Axis::Z),
+        }
+    }
+}
+
+/// Which files are written per frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum OutputFormat {
+    /// Binary PLY: persistent `id` and every channel as vertex properties.
+    Ply,
+    /// OBJ: `vt` from `uv`, vertex colours from `color`.
+    Obj,
+    /// Both.
+    Both,
+}
+
+pub fn run(args: &PropagateArgs) -> Result<(), CliError> {
+    let projection = Projection::from(args.projection);
+    let mut channels = Vec::new();
+    if let Some(path) = &args.image {
+        channels.push(Channel::image(Texture::read_png(path)?, projection));
+    }
+    if let (Some(name), Some(path)) = (&args.attribute, &args.from) {
+        channels.push(Channel::attribute(path.clone(), name));
+    }
+    let has_colour = channels.iter().any(|c| c.name == "color");
+    if args.checker || !has_colour && args.attribute.is_none() {
+        channels.push(Channel::checker(args.checker_size));
+    }
+    if args.uv {
+        channels.push(Channel::uv(projection));
+    }
+    let displace = args.displace.map(|scale| Displace {
+        channel: match &args.attribute {
+            Some(name) if !channels.iter().any(|c| c.name == "color") => name.clone(),
+            _ => "color".to_string(),
+        },
+        scale,
+    });
+    let options = PropagateOptions {
+        direction: if args.backward {
+            Direction::Backward
+        } else {
+            Direction::Forward
+        },
+        channels,
+        displace,
+        ply: args.format != OutputFormat::Obj,
+        obj: args.format != OutputFormat::Ply,
+    };
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| args.tracked.join("propagated"));
+    let summary = propagate(&args.tracked, &out, &options, args.force)?;
+    let names: Vec<String> = summary
+        .channels
+        .iter()
+        .map(|(name, k)| format!("{name} ({k})"))
+        .collect();
+    println!(
+        "carried {} {} from frame {} through {} frames into {}",
+        if names.len() == 1 {
+            "channel"
+        } else {
+            "channels"
+        },
+        names.join(", "),
+        summary.start.frame,
+        summary.vertices.len(),
+        out.display()
+    );
+    Ok(())
+}

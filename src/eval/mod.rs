@@ -1,0 +1,20 @@
+//! How good a tracked sequence is (the figures a user cares about, issue bars of the tracker): for
+//! each frame, the two-sided Hausdorff and mean distance to its input frame in units of the input's
+//! mean edge length Δ, components and Euler characteristic against the input's, triangle quality
+//! (minimum angle against the improvement threshold of paper §4.1, aspect ratio), coherence (the
+//! fraction of vertices carried over from the previous frame), and, when a synth manifest gives the
+//! rigid motion, the drift of tracked material points from their true positions (paper §6, Fig. 10).
+
+mod distance;
+mod drift;
+mod error;
+mod quality;
+mod report;
+mod run;
+
+pub use distance::{SurfaceDistances, surface_distances, surface_samples};
+pub use drift::{Drift, MaterialPoints};
+pub use error::EvalError;
+pub use quality::{ANGLE_BUCKETS, ASPECT_BUCKETS, TriangleQuality, triangle_quality};
+pub use report::{EvalReport, FrameReport, Summary};
+pub use run::{EvalOptions, evaluate};

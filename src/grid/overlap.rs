@@ -1,0 +1,180 @@
+//! Which cell faces each mesh edge pierces and which cells each triangle overlaps: the records the
+//! cutting step splits along (thesis §3.4.2 and appendix A; "type 2" vertices of §3.4.5).
+//!
+//! Decided with the same perturbation as the crossings ([`super::predicates`]), so the records
+//! describe one configuration: walking a mesh edge through its faces leads from its first endpoint's
+//! cell to its second's, and a triangle crossing a grid edge overlaps all four cells around it
+//! (Birger's check, thesis §3.4.2). Under the perturbation a triangle meets a cell exactly when a
+//! vertex lies in it, one of its edges pierces a face of it, or it crosses an edge of it, so the
+//! union of those three gives the overlap without any further test.
+
+use rayon::prelude::*;
+
+use super::crossing::GridCrossing;
+use super::lattice::LatticeMesh;
+use super::predicates::{LocalSegment, cross_axes};
+use super::sparse::Crossings;
+
+/// A mesh edge piercing a cell face: a "type 2" point of the cut.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EdgeFace {
+    /// The mesh edge's endpoints, smaller vertex index first.
+    pub edge: [u32; 2],
+    /// Axis the face is perpendicular to.
+    pub axis: usize,
+    /// The cell whose lower `axis` face is pierced; the other cell is one step down along `axis`.
+    pub cell: [i32; 3],
+    /// Position along the edge from `edge[0]`, in `(0, 1)`.
+    pub s: f32,
+    /// `edge[0]` lies below the face (in the cell one step down), `edge[1]` above.
+    pub upward: bool,
+}
+
+impl EdgeFace {
+    /// The two cells sharing the face: below, then above.
+    pub fn cells(&self) -> [[i32; 3]; 2] {
+        let mut below = self.cell;
+        below[self.axis] -= 1;
+        [below, self.cell]
+    }
+}
+
+/// Every undirected edge of the mesh once, sorted.
+pub fn mesh_edges(triangles: &[[u32; 3]]) -> Vec<[u32; 2]> {
+    let mut edges: Vec<[u32; 2]> = triangles
+        .par_iter()
+        .flat_map_iter(|&[a, b, c]| [[a, b], [b, c], [c, a]].map(|[p, q]| [p.min(q), p.max(q)]))
+        .collect();
+    edges.par_sort_unstable();
+    edges.dedup();
+    edges
+}
+
+/// Every face crossing of every mesh edge, edge by edge (in [`mesh_edges`] order) and in order
+/// along each edge from its smaller vertex.
+pub fn edge_faces(mesh: &LatticeMesh) -> Vec<EdgeFace> {
+    let edges = mesh_edges(mesh.triangles());
+    edges
+        .par_iter()
+        .with_min_len(256)
+        .flat_map_iter(|&edge| {
+            let [p, q] = edge.map(|v| mesh.points()[v as usize]);
+            let seg = LocalSegment::new(&p, &q);
+            let mut planes: Vec<(usize, i32)> = (0..3)
+                .flat_map(|axis| {
+                    let (a, b) = (p.cell[axis], q.cell[axis]);
+                    (a.min(b) + 1..=a.max(b)).map(move |plane| (axis, plane))
+                })
+                .collect();
+            planes.sort_unstable_by(|&x, &y| seg.compare(x, y));
+            planes.into_iter().map(move |(axis, plane)| EdgeFace {
+                edge,
+                axis,
+                cell: seg.face(axis, plane),
+                s: seg.parameter(axis, plane),
+                upward: p.cell[axis] < q.cell[axis],
+            })
+        })
+        .collect()
+}
+
+/// The cells each triangle overlaps, as sorted lists (compressed rows over triangles).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct TriangleCells {
+    starts: Vec<u32>,
+    cells: Vec<[i32; 3]>,
+}
+
+impl TriangleCells {
+    /// Cells overlapped by triangle `t`, sorted.
+    pub fn of(&self, t: usize) -> &[[i32; 3]] {
+        &self.cells[self.starts[t] as usize..self.starts[t + 1] as usize]
+    }
+
+    pub fn len(&self) -> usize {
+        self.starts.len().saturating_sub(1)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// The cells each triangle of `mesh` overlaps, from its vertices' cells, its edges' face crossings
+/// (`faces`, from [`edge_faces`]) and its grid-edge crossings (`crossings`, from the rasterizer).
+pub fn triangle_cells(
+    mesh: &LatticeMesh,
+    crossings: &Crossings,
+    faces: &[EdgeFace],
+) -> TriangleCells {
+    let triangles = mesh.triangles();
+    let mut by_triangle: Vec<(u32, u32)> = crossings
+        .all()
+        .par_iter()
+        .enumerate()
+        .map(|(k, c)| (c.triangle, k as u32))
+        .collect();
+    by_triangle.par_sort_unstable();
+    let lists: Vec<Vec<[i32; 3]>> = (0..triangles.len())
+        .into_par_iter()
+        .with_min_len(256)
+        .map(|t| {
+            let tri = triangles[t];
+            let mut cells: Vec<[i32; 3]> = tri.iter().map(|&v| mesh.vertex_cell(v)).collect();
+            for [p, q] in [[tri[0], tri[1]], [tri[1], tri[2]], [tri[2], tri[0]]] {
+                let edge = [p.min(q), p.max(q)];
+                let lo = faces.partition_point(|f| f.edge < edge);
+                let hi = faces.partition_point(|f| f.edge <= edge);
+                cells.extend(faces[lo..hi].iter().flat_map(EdgeFace::cells));
+            }
+            let lo = by_triangle.partition_point(|&(x, _)| x < t as u32);
+            let hi = by_triangle.partition_point(|&(x, _)| x <= t as u32);
+            for &(_, k) in &by_triangle[lo..hi] {
+                cells.extend(cells_around(&crossings.all()[k as usize]));
+            }
+            cells.sort_unstable();
+            cells.dedup();
+            cells
+        })
+        .collect();
+    let mut starts = Vec::with_capacity(lists.len() + 1);
+    let mut n = 0u32;
+    starts.push(0);
+    for l in &lists {
+        n += l.len() as u32;
+        starts.push(n);
+    }
+    TriangleCells {
+        starts,
+        cells: lists.into_iter().flatten().collect(),
+    }
+}
+
+/// The four cells around the grid edge of a crossing.
+pub fn cells_around(c: &GridCrossing) -> [[i32; 3]; 4] {
+    let (u, v) = cross_axes(c.axis());
+    std::array::from_fn(|k| {
+        let mut cell = c.corner;
+        cell[u] -= (k & 1) as i32;
+        cell[v] -= (k >> 1) as i32;
+        cell
+    })
+}
+
+/// Every cell the surface meets, sorted by `(z, y, x)`: the cells of the vertices, both cells of
+/// every face crossing (`faces`, from [`edge_faces`]) and the four cells around every grid-edge
+/// crossing. Its size follows the surface's area; it is what the grid stores per cell.
+pub fn footprint(mesh: &LatticeMesh, crossings: &Crossings, faces: &[EdgeFace]) -> Vec<[i32; 3]> {
+    let zyx = |c: [i32; 3]| [c[2], c[1], c[0]];
+    let mut cells: Vec<[i32; 3]> = mesh.points().par_iter().map(|p| zyx(p.cell)).collect();
+    cells.par_extend(faces.par_iter().flat_map_iter(|f| f.cells().map(zyx)));
+    cells.par_extend(
+        crossings
+            .all()
+            .par_iter()
+            .flat_map_iter(|c| cells_around(c).map(zyx)),
+    );
+    cells.par_sort_unstable();
+    cells.dedup();
+    cells.into_iter().map(zyx).collect()
+}

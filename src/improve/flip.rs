@@ -1,0 +1,60 @@
+//! When an edge flip is allowed. The paper skips flips; the thesis (§3.2.1) shows what they need: the
+//! new faces must not turn over and the surface must not move much (bounded here by distance, see
+//! `deviation`). Flips re-sample no vertex, so they cost no coherence, and they are only tried on a
+//! bad triangle and only kept when they raise the worse quality of the pair (`geometry::quality`).
+
+use super::deviation::deviation;
+use super::geometry::{dihedral_degrees, face_normal, quality};
+use super::params::Limits;
+use super::report::Refusal;
+use crate::mesh::{HalfEdgeId, Mesh};
+
+/// A flip must raise the pair's worst quality by at least this much, so rounding can never make two
+/// flips undo each other.
+const MIN_GAIN: f32 = 1e-4;
+
+/// Whether the edge of `h`, between faces `(a, b, c)` and `(b, a, d)`, may be flipped to `(c, d)`, and
+/// if so how far the flip moves the surface.
+pub(super) fn check_flip(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<f32, Refusal> {
+    let t = mesh.twin(h);
+    let (a, b) = (mesh.origin(h), mesh.target(h));
+    let (c, d) = (mesh.origin(mesh.prev(h)), mesh.origin(mesh.prev(t)));
+    if mesh.valence(a) <= 3 || mesh.valence(b) <= 3 {
+        return Err(Refusal::Valence);
+    }
+    if c == d || mesh.find_half_edge(c, d).is_some() {
+        return Err(Refusal::LinkCondition);
+    }
+    let [pa, pb, pc, pd] = [a, b, c, d].map(|v| mesh.position(v));
+    let old = [[pa, pb, pc], [pb, pa, pd]];
+    let new = [[pc, pa, pd], [pd, pb, pc]];
+    let worst = |faces: &[[glam::Vec3; 3]; 2]| super::geometry::min_angle(faces[0]).min(super::geometry::min_angle(faces[1])) + 0.0 * quality(faces[0], limits);
+    if worst(&new) < worst(&old) + MIN_GAIN {
+        return Err(Refusal::NoGain);
+    }
+    let old_normals = old.map(face_normal);
+    let new_normals = new.map(face_normal);
+    if new_normals
+        .iter()
+        .any(|n| old_normals.iter().any(|o| n.dot(*o) <= 0.0))
+    {
+        return Err(Refusal::NormalFlip);
+    }
+    if pc.distance(pd) > limits.max_edge {
+        return Err(Refusal::LongEdge);
+    }
+    let beyond = |e: HalfEdgeId| face_normal(mesh.face_positions(mesh.face(mesh.twin(e))));
+    let pairs = [
+        (new_normals[0], new_normals[1]),
+        (new_normals[0], beyond(mesh.prev(h))),
+        (new_normals[0], beyond(mesh.next(t))),
+        (new_normals[1], beyond(mesh.prev(t))),
+        (new_normals[1], beyond(mesh.next(h))),
+    ];
+    if pairs.iter().any(|&(n, m)| {
+        dihedral_degrees(n, m).is_none_or(|angle| angle < limits.min_dihedral)
+    }) {
+        return Err(Refusal::SharpDihedral);
+    }
+    deviation(&new, &old, limits.deviation).ok_or(Refusal::Deviation)
+}

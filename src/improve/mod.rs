@@ -1,0 +1,101 @@
+//! Mesh improvement (paper §4.1): split edges that are too long, collapse edges that are too short or
+//! that belong to a triangle with too small an angle or to too sharp a fold, and flip edges where that
+//! raises the smallest angle without moving the surface (thesis §3.2.1).
+//!
+//! Improvement is *conservative*: only elements that break a criterion are touched, so a mesh that
+//! meets them all is left exactly as it is and records no event — every re-sampled vertex costs
+//! coherence. It is *deterministic*: elements are processed worst first with ties broken by
+//! persistent ids, so the result depends only on the mesh and the parameters. Every split and collapse
+//! goes through the mesh's mutations, whose journal becomes the frame's event list (`events`).
+
+mod assess;
+mod collapse;
+mod deviation;
+mod distance;
+mod error;
+mod fix;
+mod flip;
+mod geometry;
+mod hausdorff;
+mod params;
+mod queue;
+mod report;
+mod scan;
+mod split;
+
+pub use assess::{ANGLE_BUCKETS, Assessment, LENGTH_BUCKETS, TriangleQuality, assess};
+pub use distance::{closest_point_on_triangle, point_triangle_distance};
+pub use error::ImproveError;
+pub use hausdorff::{SurfaceDistance, one_sided_hausdorff};
+pub use params::ImproveParams;
+pub use report::{ImproveReport, Problem, Refusal, Unfixed};
+
+use crate::mesh::Mesh;
+use params::Limits;
+use queue::Kind;
+
+/// Improves `mesh` in place: rounds of splitting long edges and fixing bad elements until a round
+/// changes nothing (or `params.max_rounds` is reached), then reports what it did and what is left.
+pub fn improve(mesh: &mut Mesh, params: &ImproveParams) -> Result<ImproveReport, ImproveError> {
+    params.check()?;
+    let limits = Limits::new(params);
+    let mut report = ImproveReport::default();
+    while report.rounds < params.max_rounds {
+        report.rounds += 1;
+        let split = split::split_long_edges(mesh, &limits, &mut report);
+        let fixed = fix::fix_bad_elements(mesh, &limits, &mut report);
+        if split + fixed == 0 {
+            break;
+        }
+    }
+    report.unfixed = unfixed(mesh, &limits);
+    Ok(report)
+}
+
+/// The bad elements left in `mesh`, each with the reason every candidate fix is refused.
+fn unfixed(mesh: &Mesh, limits: &Limits) -> Vec<Unfixed> {
+    let mut out: Vec<Unfixed> = scan::scan(mesh, limits)
+        .into_iter()
+        .filter_map(|task| {
+            let h = task.locate(mesh)?;
+            let refusals = fix::candidates(mesh, &task, h, limits)
+                .into_iter()
+                .filter_map(|f| fix::check(mesh, f, limits).err())
+                .collect();
+            let (problem, vertices) = match task.kind {
+                Kind::SmallAngle => (Problem::SmallAngle, task.corners.map(|c| c.1).to_vec()),
+                Kind::ShortEdge => (Problem::ShortEdge, vec![task.corners[0].1, task.corners[1].1]),
+                Kind::SharpDihedral => {
+                    (Problem::SharpDihedral, vec![task.corners[0].1, task.corners[1].1])
+                }
+            };
+            let measure = match problem {
+                Problem::ShortEdge => task.measure / (limits.min_edge * limits.max_edge).sqrt(),
+                _ => task.measure,
+            };
+            Some(Unfixed {
+                problem,
+                vertices,
+                measure,
+                refusals,
+            })
+        })
+        .collect();
+    out.extend(mesh.edges().filter_map(|h| {
+        let (a, b) = (mesh.origin(h), mesh.target(h));
+        let length = mesh.position(a).distance(mesh.position(b));
+        (length > limits.max_edge).then(|| Unfixed {
+            problem: Problem::LongEdge,
+            vertices: vec![mesh.id(a), mesh.id(b)],
+            measure: length / (limits.min_edge * limits.max_edge).sqrt(),
+            refusals: vec![Refusal::Degenerate],
+        })
+    }));
+    out.sort_by(|x, y| {
+        (x.problem as u8, x.measure)
+            .partial_cmp(&(y.problem as u8, y.measure))
+            .unwrap_or(std::cmp::Ordering::Equal)
+            .then_with(|| x.vertices.cmp(&y.vertices))
+    });
+    out
+}

@@ -1,0 +1,75 @@
+use serde::Serialize;
+
+/// Why an operation that would fix a bad element was not performed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+pub enum Refusal {
+    /// The endpoints share a neighbour besides the two opposite vertices (collapse), or the two
+    /// opposite vertices are already adjacent (flip): the result would not be a manifold.
+    LinkCondition,
+    /// A vertex would drop below valence 3 (the valence-3 trap of thesis §3.2.2).
+    Valence,
+    /// A remaining face would be degenerate (the mesh refused the mutation).
+    Degenerate,
+    /// A face would turn over (its normal would point against one it replaces).
+    NormalFlip,
+    /// The worst triangle around the operation would get worse (smaller angle or shorter edge
+    /// relative to the limits).
+    WorseQuality,
+    /// A flip would not raise the worse quality of its two faces.
+    NoGain,
+    /// A new edge would be longer than the split threshold.
+    LongEdge,
+    /// A split would create an edge shorter than the collapse threshold.
+    ShortEdge,
+    /// Two faces would meet at a dihedral angle below the minimum.
+    SharpDihedral,
+    /// The surface would move farther than `max_deviation`.
+    Deviation,
+}
+
+/// What is wrong with an element improvement could not fix.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+pub enum Problem {
+    SmallAngle,
+    ShortEdge,
+    LongEdge,
+    SharpDihedral,
+}
+
+/// A bad element left after improvement, with the reason each fix tried on it was refused.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Unfixed {
+    pub problem: Problem,
+    /// Persistent ids: the face's three corners, or the edge's two ends.
+    pub vertices: Vec<u64>,
+    /// The measure that fails: angle or dihedral in degrees, or length relative to the target.
+    pub measure: f32,
+    pub refusals: Vec<Refusal>,
+}
+
+/// What one improvement did.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct ImproveReport {
+    pub splits: usize,
+    pub collapses: usize,
+    pub flips: usize,
+    pub rounds: usize,
+    /// How often each reason stopped an attempted fix, in `Refusal` order.
+    pub refusals: Vec<(Refusal, usize)>,
+    /// The bad elements that remain, worst first within each problem.
+    pub unfixed: Vec<Unfixed>,
+}
+
+impl ImproveReport {
+    /// Splits, collapses and flips performed.
+    pub fn operations(&self) -> usize {
+        self.splits + self.collapses + self.flips
+    }
+
+    pub(super) fn refused(&mut self, reason: Refusal) {
+        match self.refusals.binary_search_by(|(r, _)| r.cmp(&reason)) {
+            Ok(i) => self.refusals[i].1 += 1,
+            Err(i) => self.refusals.insert(i, (reason, 1)),
+        }
+    }
+}

@@ -1,0 +1,142 @@
+use std::sync::OnceLock;
+
+use rayon::prelude::*;
+
+use super::build::{self, MAX_DEPTH, MAX_LEAF};
+use super::gpu::Resident;
+use super::shading::shading;
+use super::node::NodePair;
+use super::{BvhNode, BvhTriangle, NormalTriple, ProjectError, PseudoNormals};
+use crate::compute::{Backend, ComputeError, triangle_bounds};
+use crate::mesh::{IndexedMesh, MeshError};
+
+/// A bounding volume hierarchy over one target frame, with what the queries report at a hit.
+///
+/// Built on the CPU (binned SAH, see [`Bvh::build`]) once per target frame and read as it is by
+/// both backends: the node array, the triangles in leaf order, and per triangle its vertex normals
+/// and pseudo-normals. On a GPU backend the arrays are uploaded on first use and kept on the device
+/// for every later query against this frame.
+#[derive(Debug)]
+pub struct Bvh {
+    nodes: Vec<NodePair>,
+    triangles: Vec<BvhTriangle>,
+    normals: Vec<NormalTriple>,
+    pseudo: Vec<PseudoNormals>,
+    mean_edge_length: f32,
+    pub(super) resident: OnceLock<Resident>,
+}
+
+impl Bvh {
+    /// Builds the BVH of a target mesh.
+    ///
+    /// The mesh needs at least one triangle, indices in range and finite coordinates; it need not
+    /// be closed, though closest-point signs are only meaningful for a closed, consistently oriented
+    /// mesh.
+    pub fn build(mesh: &IndexedMesh) -> Result<Bvh, ProjectError> {
+        if mesh.triangles.is_empty() {
+            return Err(ProjectError::Target(MeshError::Empty));
+        }
+        if mesh.triangles.len() >= u32::MAX as usize {
+            return Err(ProjectError::TooManyTriangles {
+                triangles: mesh.triangles.len(),
+                max: u32::MAX as usize - 1,
+            });
+        }
+        if let Some((vertex, p)) = mesh
+            .positions
+            .par_iter()
+            .enumerate()
+            .find_first(|(_, p)| !p.is_finite())
+        {
+            return Err(ProjectError::Target(MeshError::NonFiniteCoordinate {
+                vertex,
+                position: p.to_array(),
+            }));
+        }
+        let boxes = triangle_bounds(&Backend::Cpu, &mesh.positions, &mesh.triangles).map_err(
+            |e| match e {
+                ComputeError::IndexOutOfRange {
+                    triangle,
+                    vertex,
+                    count,
+                } => ProjectError::Target(MeshError::IndexOutOfRange {
+                    triangle,
+                    vertex,
+                    count,
+                }),
+                other => ProjectError::Compute(other),
+            },
+        )?;
+        let tree = build::build(&boxes);
+        let triangles = tree
+            .order
+            .par_iter()
+            .map(|&t| {
+                let corners = mesh.triangles[t as usize].map(|v| mesh.positions[v as usize]);
+                BvhTriangle::new(corners, t)
+            })
+            .collect();
+        let shading = shading(mesh, &tree.order);
+        let nodes = tree
+            .nodes
+            .chunks_exact(2)
+            .map(|pair| NodePair([pair[0], pair[1]]))
+            .collect();
+        Ok(Bvh {
+            nodes,
+            triangles,
+            normals: shading.normals,
+            pseudo: shading.pseudo,
+            mean_edge_length: shading.mean_edge_length,
+            resident: OnceLock::new(),
+        })
+    }
+
+    /// The nodes, root first; the children of interior node `n` are `n.index` and `n.index + 1`,
+    /// always at an even index. Node 1 is unused padding that aligns every child pair to a cache
+    /// line.
+    pub fn nodes(&self) -> &[BvhNode] {
+        bytemuck::cast_slice(&self.nodes)
+    }
+
+    /// The triangles in leaf order: leaf `n` holds slots `n.index .. n.index + n.count`.
+    pub fn triangles(&self) -> &[BvhTriangle] {
+        &self.triangles
+    }
+
+    /// Per leaf slot, the target's vertex normals at the triangle's corners.
+    pub fn normals(&self) -> &[NormalTriple] {
+        &self.normals
+    }
+
+    /// Per leaf slot, the triangle's corner and edge pseudo-normals.
+    pub fn pseudo_normals(&self) -> &[PseudoNormals] {
+        &self.pseudo
+    }
+
+    /// The target's mean edge length: the unit of every relative distance in the queries.
+    pub fn mean_edge_length(&self) -> f32 {
+        self.mean_edge_length
+    }
+
+    /// Levels below the root of the deepest leaf; always below the traversal stacks' size.
+    pub fn depth(&self) -> usize {
+        let mut deepest = 0;
+        let mut pending = vec![(0usize, 0usize)];
+        while let Some((n, depth)) = pending.pop() {
+            deepest = deepest.max(depth);
+            let node = self.nodes()[n];
+            if !node.is_leaf() {
+                pending.push((node.index as usize, depth + 1));
+                pending.push((node.index as usize + 1, depth + 1));
+            }
+        }
+        deepest
+    }
+
+    /// Entries the traversal stacks hold (`STACK_SIZE` in `kernels/shared/bvh.wgsl`).
+    pub const STACK_SIZE: usize = MAX_DEPTH;
+
+    /// Most triangles in one leaf.
+    pub const MAX_LEAF_TRIANGLES: usize = MAX_LEAF;
+}

@@ -1,0 +1,98 @@
+//! The two queries, each on either backend.
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::cpu::closest_point::closest_point_cpu;
+use super::cpu::project::project_cpu;
+use super::gpu::GpuQueries;
+use super::options::{QueryParams, absolute_distance};
+use super::{Bvh, Correspondence, ProjectError, ProjectOptions};
+use crate::compute::Backend;
+
+/// Projects each source point along its normal onto the target (paper §4.2): casts the line
+/// `p + t·n` both ways, keeps the hit with the least `|t|` within `options.max_distance`, and
+/// reports the hit point, the target's interpolated normal there, the signed `t`, the triangle
+/// and its barycentric weights. A hit whose normal is more than `options.max_angle_degrees`
+/// from `n` is reported as [`super::Status::NormalMismatch`].
+///
+/// Normals need not be unit (they are normalised; `t` is a distance). A point with a zero or
+/// non-finite normal, or a non-finite point, is a miss. Rays through shared edges and vertices
+/// never slip through a closed target (watertight test, Woop et al. 2013).
+pub fn project(
+    backend: &Backend,
+    bvh: &Bvh,
+    points: &[Vec3],
+    normals: &[Vec3],
+    options: &ProjectOptions,
+) -> Result<Vec<Correspondence>, ProjectError> {
+    match backend {
+        Backend::Cpu => {
+            let params = options.params(bvh.mean_edge_length())?;
+            let directions = directions(points, normals)?;
+            Ok(project_cpu(bvh, points, &directions, &params))
+        }
+        Backend::Gpu(context) => {
+            let job = GpuQueries::project(context, bvh, points, normals, options)?;
+            job.dispatch(context, &bvh.on_gpu(context)?)?;
+            Ok(job.read(context)?)
+        }
+    }
+}
+
+/// The nearest target surface point of each point, with `distance` = |p − point| signed by the
+/// target's orientation (negative inside a closed, consistently oriented target), the
+/// interpolated normal, triangle and barycentric weights. Points farther than `max_distance`
+/// mean edge lengths from the target (`f32::INFINITY`: no limit), and non-finite points, are
+/// misses.
+pub fn closest_points(
+    backend: &Backend,
+    bvh: &Bvh,
+    points: &[Vec3],
+    max_distance: f32,
+) -> Result<Vec<Correspondence>, ProjectError> {
+    let mut found = match backend {
+        Backend::Cpu => {
+            let params = QueryParams::closest(absolute_distance(
+                max_distance,
+                bvh.mean_edge_length(),
+            )?);
+            closest_point_cpu(bvh, points, &params)
+        }
+        Backend::Gpu(context) => {
+            let job = GpuQueries::closest_points(context, bvh, points, max_distance)?;
+            job.dispatch(context, &bvh.on_gpu(context)?)?;
+            job.read(context)?
+        }
+    };
+    // WGSL gives no guarantee about NaN and infinity, so misses for unusable points are set here,
+    // for both backends alike.
+    found
+        .par_iter_mut()
+        .zip(points)
+        .filter(|(_, p)| !p.is_finite())
+        .for_each(|(c, _)| *c = Correspondence::MISS);
+    Ok(found)
+}
+
+/// The unit direction of each query, or zero where the point or its normal is unusable, computed
+/// once on the host so both backends cast exactly the same rays.
+pub(super) fn directions(points: &[Vec3], normals: &[Vec3]) -> Result<Vec<Vec3>, ProjectError> {
+    if points.len() != normals.len() {
+        return Err(ProjectError::LengthMismatch {
+            points: points.len(),
+            normals: normals.len(),
+        });
+    }
+    Ok(points
+        .par_iter()
+        .zip(normals)
+        .map(|(p, n)| {
+            if p.is_finite() {
+                n.normalize_or_zero()
+            } else {
+                Vec3::ZERO
+            }
+        })
+        .collect())
+}

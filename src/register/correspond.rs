@@ -1,0 +1,83 @@
+//! Correspondences for the registration energies: each deformed vertex's normal ray cast onto the
+//! target (paper §4.2), through the projection module on the chosen backend.
+
+use glam::{DVec3, Vec3};
+
+use super::RegisterError;
+use super::energy::FitTarget;
+use super::model::Units;
+use crate::compute::Backend;
+use crate::project::{Bvh, ProjectOptions, Status, project};
+
+/// Finds target points for source points with normals (world coordinates).
+pub trait Correspond {
+    /// For each point, its target point and the target's unit normal there, or `None` when the ray
+    /// misses within `max_distance` (in mean edge lengths of the target) or the normals differ by
+    /// more than the pruning angle.
+    fn correspond(
+        &self,
+        points: &[Vec3],
+        normals: &[Vec3],
+        max_distance: f32,
+    ) -> Result<Vec<Option<(Vec3, Vec3)>>, RegisterError>;
+
+    /// The target's mean edge length (the unit of `max_distance`).
+    fn target_unit(&self) -> f32;
+}
+
+/// Normal-ray projection onto a target's BVH.
+pub struct Projector<'a> {
+    pub backend: &'a Backend,
+    pub bvh: &'a Bvh,
+    pub max_angle_degrees: f32,
+}
+
+impl Correspond for Projector<'_> {
+    fn correspond(
+        &self,
+        points: &[Vec3],
+        normals: &[Vec3],
+        max_distance: f32,
+    ) -> Result<Vec<Option<(Vec3, Vec3)>>, RegisterError> {
+        let options = ProjectOptions {
+            max_angle_degrees: self.max_angle_degrees,
+            max_distance,
+        };
+        let found = project(self.backend, self.bvh, points, normals, &options)
+            .map_err(|e| RegisterError::Correspondence(e.to_string()))?;
+        Ok(found
+            .iter()
+            .map(|c| (c.status() == Status::Accepted).then_some((c.point, c.normal)))
+            .collect())
+    }
+
+    fn target_unit(&self) -> f32 {
+        self.bvh.mean_edge_length()
+    }
+}
+
+/// Targets of the solver-coordinate points `points` with normals `normals`, at most
+/// `max_distance` source mean edge lengths away.
+pub fn targets(
+    correspond: &dyn Correspond,
+    units: &Units,
+    points: &[DVec3],
+    normals: &[Vec3],
+    max_distance: f64,
+) -> Result<Vec<Option<FitTarget>>, RegisterError> {
+    let world: Vec<Vec3> = points.iter().map(|&p| units.to_world(p)).collect();
+    let relative = (max_distance * units.unit / f64::from(correspond.target_unit())) as f32;
+    let found = correspond.correspond(&world, normals, relative)?;
+    Ok(found
+        .into_iter()
+        .map(|hit| {
+            hit.and_then(|(point, normal)| {
+                let normal = normal.as_dvec3().normalize_or_zero();
+                (normal != DVec3::ZERO).then(|| FitTarget {
+                    point: units.to_local(point),
+                    normal,
+                })
+            })
+        })
+        .collect())
+}

@@ -1,0 +1,135 @@
+//! Non-rigid registration of the tracked mesh onto a target frame (paper §4.2, Birger's thesis
+//! §3.3): a coarse stage over a deformation graph, solved by Gauss-Newton with faer's sparse
+//! Cholesky factorization, then a fine per-vertex stage solved by conjugate gradients.
+//!
+//! All lengths are in mean edge lengths of the source mesh: positions are mapped to solver
+//! coordinates (centroid at the origin, unit mean edge length) before either stage, so the paper's
+//! weights mean the same at any scale. The CPU work is parallel and combines results in a fixed
+//! order, so a registration gives bit-identical positions whatever the thread count.
+
+mod adjacency;
+mod assemble;
+mod cholesky;
+mod coarse;
+mod correspond;
+mod energy;
+mod error;
+mod fine;
+mod geodesic;
+mod graph;
+#[cfg(test)]
+mod jacobian_tests;
+mod model;
+mod normals;
+mod operator;
+mod options;
+mod pattern;
+mod pcg;
+mod report;
+mod surface;
+
+use std::time::Instant;
+
+use faer::Par;
+use glam::Vec3;
+
+pub use error::RegisterError;
+pub use graph::{DeformationGraph, GraphOptions};
+pub use options::{CoarseOptions, FineOptions, RegisterOptions};
+pub use report::{
+    CoarseReport, FineReport, FineRound, IterationReport, RegistrationReport, StageReport,
+    StepTimes,
+};
+
+use crate::compute::Backend;
+use crate::mesh::{IndexedMesh, Mesh, VertexId};
+use crate::project::{Bvh, ProjectError};
+use correspond::{Correspond, Projector};
+use surface::Surface;
+
+/// Deforms `mesh` onto `target`: coarse graph registration, then fine alignment. Projection runs on
+/// `backend`; everything else on the CPU. Vertex ids and connectivity are untouched; only positions
+/// change.
+///
+/// A stage that does not converge is reported in the returned [`RegistrationReport`]
+/// (`converged()`), never silently; errors are reserved for input that cannot be registered and for
+/// a factorization that fails at every damping.
+pub fn register(
+    backend: &Backend,
+    mesh: &mut Mesh,
+    target: &IndexedMesh,
+    options: &RegisterOptions,
+) -> Result<RegistrationReport, RegisterError> {
+    options.check()?;
+    let total = Instant::now();
+    let slots: Vec<VertexId> = mesh.vertices().collect();
+    let source = mesh.to_indexed();
+    let t = Instant::now();
+    let bvh = Bvh::build(target).map_err(|e| match e {
+        ProjectError::Target(source) => RegisterError::Mesh {
+            which: "target",
+            source,
+        },
+        other => RegisterError::Correspondence(other.to_string()),
+    })?;
+    let bvh_time = t.elapsed();
+    if !(bvh.mean_edge_length().is_finite() && bvh.mean_edge_length() > 0.0) {
+        return Err(RegisterError::NoScale { which: "target" });
+    }
+    let projector = Projector {
+        backend,
+        bvh: &bvh,
+        max_angle_degrees: options.max_angle_degrees,
+    };
+    let (positions, mut report) = register_with(&projector, &source, options)?;
+    for (&slot, &p) in slots.iter().zip(&positions) {
+        mesh.set_position(slot, p);
+    }
+    report.bvh_time = bvh_time;
+    report.total_time = total.elapsed();
+    Ok(report)
+}
+
+/// Both stages against any correspondence source; returns the new positions of `source`'s
+/// vertices.
+fn register_with(
+    correspond: &dyn Correspond,
+    source: &IndexedMesh,
+    options: &RegisterOptions,
+) -> Result<(Vec<Vec3>, RegistrationReport), RegisterError> {
+    graph::check_indices(source, "source")?;
+    let unit = source.mean_edge_length();
+    if !(unit.is_finite() && unit > 0.0) {
+        return Err(RegisterError::NoScale { which: "source" });
+    }
+    let surface = Surface::new(&source.positions, &source.triangles, unit);
+    let t = Instant::now();
+    let graph = DeformationGraph::from_adjacency(
+        &source.positions,
+        &surface.adjacency,
+        options.graph.spacing * unit,
+        options.graph.skinning_nodes,
+    );
+    let graph_time = t.elapsed();
+    let t = Instant::now();
+    let par = Par::rayon(0);
+    let (coarse, coarse_report) =
+        coarse::coarse(correspond, &surface, &graph, &options.coarse, par)?;
+    let coarse_time = t.elapsed();
+    let t = Instant::now();
+    let (fine, fine_report) = fine::fine(correspond, &surface, &coarse, &options.fine)?;
+    let fine_time = t.elapsed();
+    let positions = fine.iter().map(|&p| surface.units.to_world(p)).collect();
+    Ok((
+        positions,
+        RegistrationReport {
+            vertices: source.positions.len(),
+            coarse: coarse_report,
+            fine: fine_report,
+            graph_time,
+            coarse_time,
+            fine_time,
+            ..RegistrationReport::default()
+        },
+    ))
+}

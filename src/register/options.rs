@@ -1,0 +1,199 @@
+//! Parameters of a registration. Distances are in mean edge lengths of the source mesh, so the
+//! same options mean the same at any scale.
+
+use super::RegisterError;
+use super::graph::GraphOptions;
+
+/// Everything [`super::register`] can be told.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RegisterOptions {
+    pub graph: GraphOptions,
+    pub coarse: CoarseOptions,
+    pub fine: FineOptions,
+    /// Correspondences whose source and target normals differ by more than this are pruned
+    /// (paper §4.2: 60°).
+    pub max_angle_degrees: f32,
+}
+
+impl Default for RegisterOptions {
+    fn default() -> Self {
+        Self {
+            graph: GraphOptions::default(),
+            coarse: CoarseOptions::default(),
+            fine: FineOptions::default(),
+            max_angle_degrees: 60.0,
+        }
+    }
+}
+
+/// The coarse deformation-graph stage (paper §4.2, thesis §3.3.3).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CoarseOptions {
+    /// `α_fit` (paper: 0.1).
+    pub alpha_fit: f64,
+    /// `α_reg` of the first stage (paper: 1000).
+    pub alpha_reg_start: f64,
+    /// `α_reg` of the last stage: relaxation stops once a stage at or below it has converged.
+    pub alpha_reg_floor: f64,
+    /// Weight of `E_plane` within `E_fit` (paper: 1).
+    pub plane_weight: f64,
+    /// Weight of `E_point` within `E_fit` (paper: 0.1).
+    pub point_weight: f64,
+    /// Weight of `E_smooth` within `E_reg` (paper: 0.1).
+    pub smooth_weight: f64,
+    /// A stage ends, and `α_reg` is divided by 10, when an iteration lowers the energy by less than
+    /// this fraction (thesis §3.3.3: σ = 0.005).
+    pub relax_threshold: f64,
+    /// Most Gauss-Newton iterations in one stage.
+    pub max_stage_iterations: usize,
+    /// Correspondences farther than this (mean edge lengths) are pruned; unbounded by default, as
+    /// the coarse stage must recover large motions and relies on the normal test instead.
+    pub max_distance: f64,
+    /// `E_fit` runs over vertices sampled this far apart along the surface (mean edge lengths; 0
+    /// for every vertex). The graph has 12 unknowns per node and a node per ~18 vertices, so a
+    /// uniformly spread subset fixes it as well as all vertices do (issue 5 allows it), at a
+    /// fraction of the projection and assembly cost; the fine stage then fits every vertex.
+    pub sample_spacing: f32,
+    /// How each Gauss-Newton system is solved.
+    pub solver: LinearSolver,
+    /// Conjugate gradients stop at this residual relative to `|Jᵀr|`.
+    pub cg_tolerance: f64,
+    pub max_cg_iterations: usize,
+}
+
+/// How the coarse stage solves `(JᵀJ + λ I) δ = −Jᵀr`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LinearSolver {
+    /// Factor the exact `JᵀJ` every iteration (paper §4.2). Its pattern couples every pair of nodes
+    /// that skin a common vertex, about twice as wide as the graph, so its factor fills about
+    /// three times as much.
+    Cholesky,
+    /// Conjugate gradients on the exact system, preconditioned by the Cholesky factor of an upper
+    /// bound of `JᵀJ` with the graph's own sparsity; the factor is kept across iterations and
+    /// refreshed at each new `α_reg` or once a solve needs more than `refactor_after` iterations.
+    PreconditionedCg { refactor_after: usize },
+}
+
+impl Default for CoarseOptions {
+    fn default() -> Self {
+        Self {
+            alpha_fit: 0.1,
+            alpha_reg_start: 1000.0,
+            alpha_reg_floor: 0.1,
+            plane_weight: 1.0,
+            point_weight: 0.1,
+            smooth_weight: 0.1,
+            relax_threshold: 0.005,
+            max_stage_iterations: 20,
+            max_distance: f64::INFINITY,
+            sample_spacing: 2.0,
+            solver: LinearSolver::PreconditionedCg { refactor_after: 8 },
+            cg_tolerance: 1e-6,
+            max_cg_iterations: 200,
+        }
+    }
+}
+
+/// The fine per-vertex stage (paper §4.2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FineOptions {
+    /// Correspondences farther than σ mean edge lengths are pruned "to avoid self intersections"
+    /// (paper: σ = 0.1 in its scenes' units).
+    pub sigma: f64,
+    pub plane_weight: f64,
+    pub point_weight: f64,
+    /// Weight of `E_disp`: squared differences of adjacent displacements.
+    pub disp_weight: f64,
+    /// Weight of `E_edge`: squared (linearized) changes of edge lengths.
+    pub edge_weight: f64,
+    /// Rounds of (correspondences, conjugate-gradient solve), each warm-started from the last.
+    pub rounds: usize,
+    /// Conjugate gradients stop when the residual falls below this fraction of the right-hand side.
+    pub tolerance: f64,
+    pub max_cg_iterations: usize,
+}
+
+impl Default for FineOptions {
+    fn default() -> Self {
+        Self {
+            sigma: 1.0,
+            plane_weight: 1.0,
+            point_weight: 0.1,
+            disp_weight: 1.0,
+            edge_weight: 1.0,
+            rounds: 2,
+            tolerance: 1e-4,
+            max_cg_iterations: 200,
+        }
+    }
+}
+
+fn positive(name: &'static str, value: f64) -> Result<(), RegisterError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(RegisterError::Option {
+            name,
+            expected: "finite and positive",
+            value,
+        })
+    }
+}
+
+fn non_negative(name: &'static str, value: f64) -> Result<(), RegisterError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(RegisterError::Option {
+            name,
+            expected: "finite and non-negative",
+            value,
+        })
+    }
+}
+
+impl RegisterOptions {
+    pub fn check(&self) -> Result<(), RegisterError> {
+        self.graph.check()?;
+        let angle = f64::from(self.max_angle_degrees);
+        if !(0.0..=180.0).contains(&angle) {
+            return Err(RegisterError::Option {
+                name: "max angle",
+                expected: "between 0 and 180 degrees",
+                value: angle,
+            });
+        }
+        let c = &self.coarse;
+        positive("coarse alpha_fit", c.alpha_fit)?;
+        positive("coarse alpha_reg_start", c.alpha_reg_start)?;
+        positive("coarse alpha_reg_floor", c.alpha_reg_floor)?;
+        non_negative("coarse plane weight", c.plane_weight)?;
+        positive("coarse point weight", c.point_weight)?;
+        non_negative("coarse smooth weight", c.smooth_weight)?;
+        positive("coarse relax threshold", c.relax_threshold)?;
+        if c.max_stage_iterations == 0 {
+            return Err(RegisterError::Option {
+                name: "coarse max stage iterations",
+                expected: "at least 1",
+                value: 0.0,
+            });
+        }
+        non_negative("coarse sample spacing", f64::from(c.sample_spacing))?;
+        positive("coarse cg tolerance", c.cg_tolerance)?;
+        if c.max_distance.is_nan() || c.max_distance <= 0.0 {
+            return Err(RegisterError::Option {
+                name: "coarse max distance",
+                expected: "positive (infinity for no limit)",
+                value: c.max_distance,
+            });
+        }
+        let f = &self.fine;
+        positive("fine sigma", f.sigma)?;
+        non_negative("fine plane weight", f.plane_weight)?;
+        positive("fine point weight", f.point_weight)?;
+        non_negative("fine disp weight", f.disp_weight)?;
+        non_negative("fine edge weight", f.edge_weight)?;
+        positive("fine tolerance", f.tolerance)?;
+        Ok(())
+    }
+}

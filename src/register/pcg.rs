@@ -1,0 +1,75 @@
+//! Preconditioned conjugate gradients on flat `f64` vectors, with dot products summed in a fixed
+//! order so the iterates do not depend on the thread count.
+
+use rayon::prelude::*;
+
+use super::model::ordered_sum;
+
+/// How a solve ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Solve {
+    pub iterations: usize,
+    /// `|b − A x| / |b|` at the end.
+    pub residual: f64,
+    pub converged: bool,
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    ordered_sum(a.len(), |i| a[i] * b[i])
+}
+
+/// Solves `A x = b` from the `x` given, for symmetric positive (semi)definite `A` applied by
+/// `apply(v, out)` and a preconditioner applied by `precondition(r, z)`; stops when the residual
+/// falls below `tolerance · |b|` or after `max_iterations`.
+pub fn pcg(
+    apply: impl Fn(&[f64], &mut [f64]),
+    mut precondition: impl FnMut(&[f64], &mut [f64]),
+    b: &[f64],
+    x: &mut [f64],
+    tolerance: f64,
+    max_iterations: usize,
+) -> Solve {
+    let n = b.len();
+    let b_norm = dot(b, b).sqrt();
+    if b_norm == 0.0 {
+        x.iter_mut().for_each(|v| *v = 0.0);
+        return Solve {
+            iterations: 0,
+            residual: 0.0,
+            converged: true,
+        };
+    }
+    let mut ax = vec![0.0; n];
+    apply(x, &mut ax);
+    let mut r: Vec<f64> = b.iter().zip(&ax).map(|(b, a)| b - a).collect();
+    let mut z = vec![0.0; n];
+    precondition(&r, &mut z);
+    let mut p = z.clone();
+    let mut rz = dot(&r, &z);
+    let mut residual = dot(&r, &r).sqrt() / b_norm;
+    let mut iterations = 0;
+    while residual > tolerance && iterations < max_iterations {
+        apply(&p, &mut ax);
+        let pap = dot(&p, &ax);
+        if !(pap > 0.0 && pap.is_finite()) {
+            break;
+        }
+        let alpha = rz / pap;
+        x.par_iter_mut().zip(&p).for_each(|(x, p)| *x += alpha * p);
+        r.par_iter_mut().zip(&ax).for_each(|(r, a)| *r -= alpha * a);
+        precondition(&r, &mut z);
+        let rz_next = dot(&r, &z);
+        let beta = rz_next / rz;
+        rz = rz_next;
+        p.par_iter_mut()
+            .zip(&z)
+            .for_each(|(p, z)| *p = z + beta * *p);
+        residual = dot(&r, &r).sqrt() / b_norm;
+        iterations += 1;
+    }
+    Solve {
+        iterations,
+        residual,
+        converged: residual <= tolerance,
+    }
+}

@@ -1,0 +1,238 @@
+//! Classification (thesis §3.4.4, design note §2 steps 2–3): the cells where the mesh and Θ differ
+//! deeply enough that the mesh must be re-sampled there.
+//!
+//! * **Self-intersection** — a grid edge along which the mesh's winding leaves {0, 1} (the surface
+//!   overlaps or is inverted there): its four cells, always.
+//! * **Corner mismatch** — the mesh and Θ disagree on whether a corner is inside: its eight cells,
+//!   if the difference is *deep*. It is shallow when, within `depth` grid steps (L1), Θ holds the
+//!   mesh's material and the mesh holds Θ's: both surfaces pass that close to the corner, so they
+//!   differ by a wiggle thinner than a cell, which is not worth re-sampling (the paper's deep cells,
+//!   after Wojtan et al.; TopoFixer's L1 test).
+//! * **Multiply crossed edge** — the mesh crosses a grid edge more than once (a sheet, strand or gap
+//!   thinner than a cell): its four cells, if deep, i.e. unless every material the mesh holds
+//!   between its crossings appears in Θ within `depth` steps of the edge.
+//! * **Sub-cell component** — a mesh component that crosses no grid edge is invisible to Θ's grid
+//!   (no isosurface of Θ can have it): the cells of its vertices, always.
+//! * With `faces` set, every face the mesh meets that could not be a front face (a closed loop on
+//!   it, or arcs pairing its crossings unlike the face rule): both its cells.
+//!
+//! `depth = 0` makes every difference deep. The result is sorted and free of duplicates.
+
+use rayon::prelude::*;
+
+use super::field::Field;
+use super::keys::{Cell, Corner, GridEdge, GridFace, cell_corner, corner_cells};
+use super::mesh_grid::MeshGrid;
+use super::region::pairs_follow_rule;
+use super::face_arcs::face_arcs;
+use crate::mesh::IndexedMesh;
+
+/// How strictly one attempt classifies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Strictness {
+    /// L1 distance in grid steps within which a difference counts as shallow; 0: none does.
+    pub depth: u32,
+    /// Also seed the cells of faces that could not be front faces.
+    pub faces: bool,
+    /// Grow the seeds by this many cells in every direction.
+    pub dilate: u32,
+}
+
+/// Offsets within L1 distance `d` of the origin.
+fn ball(d: u32) -> Vec<[i32; 3]> {
+    let d = d as i32;
+    let mut out = Vec::new();
+    for x in -d..=d {
+        for y in -d..=d {
+            for z in -d..=d {
+                if x.abs() + y.abs() + z.abs() <= d {
+                    out.push([x, y, z]);
+                }
+            }
+        }
+    }
+    out
+}
+
+fn offset(c: Corner, o: [i32; 3]) -> Corner {
+    [c[0] + o[0], c[1] + o[1], c[2] + o[2]]
+}
+
+/// Seeds of the complex region for one attempt.
+pub(crate) fn seeds(
+    grid: &MeshGrid,
+    field: &Field,
+    surface_cells: &[Cell],
+    strictness: &Strictness,
+) -> Vec<Cell> {
+    let near = ball(strictness.depth);
+    let depth = strictness.depth;
+    let lines = grid.crossings.index().len();
+    let per_line: Vec<(Vec<Cell>, Vec<Corner>)> = (0..lines)
+        .into_par_iter()
+        .with_min_len(64)
+        .map(|l| {
+            let mut seeds = Vec::new();
+            let mut corners = Vec::new();
+            let line = grid.crossings.of_line(l);
+            let mut winding = 0;
+            for group in line.chunk_by(|x, y| x.along() == y.along()) {
+                let edge = GridEdge::new(group[0].corner, group[0].axis());
+                let mut sequence = Vec::with_capacity(group.len() + 1);
+                sequence.push(winding);
+                for c in group {
+                    winding += c.sign();
+                    sequence.push(winding);
+                }
+                corners.extend(edge.ends());
+                if sequence.iter().any(|w| !(0..=1).contains(w)) {
+                    seeds.extend(edge.cells());
+                } else if group.len() >= 2 && deep_edge(field, &edge, &sequence, depth, &near) {
+                    seeds.extend(edge.cells());
+                }
+            }
+            (seeds, corners)
+        })
+        .collect();
+    let mut seeds: Vec<Cell> = Vec::new();
+    let mut corners: Vec<Corner> = Vec::new();
+    for (s, c) in per_line {
+        seeds.extend(s);
+        corners.extend(c);
+    }
+    corners.extend(
+        surface_cells
+            .iter()
+            .flat_map(|&cell| (0..8).map(move |c| cell_corner(cell, c))),
+    );
+    corners.par_sort_unstable();
+    corners.dedup();
+    let mismatched: Vec<Cell> = corners
+        .par_iter()
+        .with_min_len(256)
+        .filter(|&&c| {
+            let (m, theta) = (grid.inside(c), field.inside(c));
+            m != theta && deep_corner(grid, field, c, m, theta, depth, &near)
+        })
+        .flat_map_iter(|&c| corner_cells(c))
+        .collect();
+    seeds.extend(mismatched);
+    seeds.extend(sub_cell_components(grid));
+    if strictness.faces {
+        seeds.extend(complex_faces(grid, field));
+    }
+    seeds.par_sort_unstable();
+    seeds.dedup();
+    if strictness.dilate > 0 {
+        seeds = dilate(&seeds, strictness.dilate);
+    }
+    seeds
+}
+
+/// A corner mismatch is shallow when, nearby, Θ holds the mesh's material and the mesh holds Θ's.
+fn deep_corner(
+    grid: &MeshGrid,
+    field: &Field,
+    corner: Corner,
+    mesh_inside: bool,
+    theta_inside: bool,
+    depth: u32,
+    near: &[[i32; 3]],
+) -> bool {
+    if depth == 0 {
+        return true;
+    }
+    let theta_has_mesh = near
+        .iter()
+        .any(|&o| field.inside(offset(corner, o)) == mesh_inside);
+    let mesh_has_theta = near
+        .iter()
+        .any(|&o| grid.inside(offset(corner, o)) == theta_inside);
+    !(theta_has_mesh && mesh_has_theta)
+}
+
+/// A multiply crossed edge is shallow when every material between its crossings appears in Θ near
+/// the edge. `windings` lists the winding before, between and after the crossings.
+fn deep_edge(field: &Field, edge: &GridEdge, windings: &[i32], depth: u32, near: &[[i32; 3]]) -> bool {
+    if depth == 0 {
+        return true;
+    }
+    let interior = &windings[1..windings.len() - 1];
+    let ends = edge.ends();
+    let present = |inside: bool| {
+        ends.iter()
+            .any(|&e| near.iter().any(|&o| field.inside(offset(e, o)) == inside))
+    };
+    let needs_inside = interior.contains(&1);
+    let needs_outside = interior.contains(&0);
+    !((!needs_inside || present(true)) && (!needs_outside || present(false)))
+}
+
+/// Cells of the vertices of every mesh component that crosses no grid edge.
+fn sub_cell_components(grid: &MeshGrid) -> Vec<Cell> {
+    let mesh: &IndexedMesh = grid.mesh;
+    let n = mesh.triangles.len();
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn find(parent: &mut [u32], mut x: u32) -> u32 {
+        while parent[x as usize] != x {
+            parent[x as usize] = parent[parent[x as usize] as usize];
+            x = parent[x as usize];
+        }
+        x
+    }
+    for [a, b] in &grid.edges.tris {
+        let (ra, rb) = (find(&mut parent, *a), find(&mut parent, *b));
+        if ra != rb {
+            parent[ra.max(rb) as usize] = ra.min(rb);
+        }
+    }
+    let mut crossed = vec![false; n];
+    for c in grid.crossings.all() {
+        let root = find(&mut parent, c.triangle);
+        crossed[root as usize] = true;
+    }
+    let mut cells = Vec::new();
+    for t in 0..n as u32 {
+        let root = find(&mut parent, t);
+        if !crossed[root as usize] {
+            cells.extend(mesh.triangles[t as usize].map(|v| grid.vertex_cell(v)));
+        }
+    }
+    cells
+}
+
+/// Both cells of every face the mesh meets that could not be a front face.
+fn complex_faces(grid: &MeshGrid, field: &Field) -> Vec<Cell> {
+    let mut faces: Vec<GridFace> = grid.pierced_faces().copied().collect();
+    faces.extend(
+        grid.crossings
+            .all()
+            .iter()
+            .flat_map(|c| GridEdge::new(c.corner, c.axis()).faces()),
+    );
+    faces.par_sort_unstable();
+    faces.dedup();
+    faces
+        .par_iter()
+        .filter(|face| {
+            face_arcs(grid, face).is_none_or(|arcs| !pairs_follow_rule(field, face, &arcs))
+        })
+        .flat_map_iter(|face| face.cells())
+        .collect()
+}
+
+/// Every cell within `k` cells (in each coordinate) of a seed, sorted.
+fn dilate(seeds: &[Cell], k: u32) -> Vec<Cell> {
+    let k = k as i32;
+    let mut out: Vec<Cell> = seeds
+        .par_iter()
+        .flat_map_iter(|&c| {
+            (-k..=k).flat_map(move |x| {
+                (-k..=k).flat_map(move |y| (-k..=k).map(move |z| [c[0] + x, c[1] + y, c[2] + z]))
+            })
+        })
+        .collect();
+    out.par_sort_unstable();
+    out.dedup();
+    out
+}

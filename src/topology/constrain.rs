@@ -1,0 +1,338 @@
+//! `ConstrainTopology(M, Θ)` (paper §4.3): classify, grow, cut, fill, stitch, verify — and never
+//! fail.
+//!
+//! Each attempt builds the whole result and checks it exactly: closed, manifold, consistently
+//! oriented and non-degenerate (`IndexedMesh::validate`), with the components and per-component
+//! Euler characteristics of Θ's isosurface. An attempt that falls short teaches the next one: a
+//! local failure (a triangle that could not be split or triangulated, an invalid element) adds the
+//! cells around it to the seeds; a topology left different by a shallow difference makes the
+//! classification stricter (every difference deep, then every face the cut could not run along, then
+//! wider margins). When every local attempt fails the whole surface is replaced by Θ's isosurface,
+//! which is closed and manifold by construction — that last step is the guarantee, the local
+//! attempts are what keep re-sampling small.
+
+use std::rc::Rc;
+use std::time::Instant;
+
+use rustc_hash::FxHashSet;
+
+use super::build::{Built, build};
+use super::classify::{Strictness, seeds};
+use super::cut::cut;
+use super::face_arcs::Arc;
+use super::field::Field;
+use super::fill::fill;
+use super::isosurface::{isosurface, signature};
+use super::keys::{Cell, GridFace, cell_face, cell_neighbour};
+use super::mesh_grid::MeshGrid;
+use super::points::Point;
+use super::record::record;
+use super::region::{Checks, grow};
+use super::{Resampling, TopologyError, TopologyOptions, TopologyReport};
+use crate::mesh::{Attribute, IndexedMesh, Mesh, MeshError};
+
+/// Constrains the topology of `mesh` to that of Θ's isosurface (paper §4.3): where the two differ
+/// deeply, the mesh's triangles are replaced by Θ's isosurface, cut and stitched along the boundary
+/// of the region of complex cells; elsewhere the mesh is untouched (same vertex ids, same
+/// positions). Called as `constrain_topology(M, Φ(M))` it merges self-intersections; as
+/// `constrain_topology(M, Φ(T))` it gives M the topology of the target frame.
+///
+/// The result is closed, 2-manifold and consistently oriented, with the same components and
+/// per-component Euler characteristic as Θ's isosurface; its new vertices lie on Θ's zero set or on
+/// the cut. New vertices get fresh ids; the report's events say where every created and removed
+/// vertex came from and went (paper §4.4), and attribute channels are carried by the same rules.
+/// Triangle quality is not this step's concern: the caller improves the mesh afterwards
+/// (Algorithm 1, line 12).
+pub fn constrain_topology(
+    mesh: &mut Mesh,
+    theta: &Field,
+    options: &TopologyOptions,
+) -> Result<TopologyReport, TopologyError> {
+    let start = Instant::now();
+    let input = mesh.to_indexed();
+    let tt = Instant::now();
+    let surface = theta.surface_cells();
+    let t_surface = tt.elapsed();
+    let (iso, _) = isosurface(theta, &surface);
+    let target = signature(&iso);
+    let t_iso = tt.elapsed();
+    let grid = MeshGrid::new(&input, *theta.frame())?;
+    let t_grid = tt.elapsed();
+    let _ = signature(&input);
+    let t_sig = tt.elapsed();
+    if std::env::var("TOPO_TIMES").is_ok() { eprintln!("TIMES to_indexed {:?} surface {t_surface:?} iso {t_iso:?} grid {t_grid:?} sig {t_sig:?} cells {} ", start.elapsed() - tt.elapsed(), surface.len()); }
+    let mut checks = Checks::new(&grid, theta);
+    let mut report = TopologyReport::default();
+    let mut extra: Vec<Cell> = Vec::new();
+
+    for (attempt, strictness) in ladder(options).iter().enumerate() {
+        let clock = Instant::now();
+        let mut cells = seeds(&grid, theta, &surface, strictness);
+        cells.extend_from_slice(&extra);
+        cells.sort_unstable();
+        cells.dedup();
+        let region = grow(&cells, &mut checks);
+        report.seed_cells = cells.len();
+        report.region_cells = region.len();
+        report.classify += clock.elapsed();
+        if region.is_empty() {
+            if signature(&input) == target {
+                report.kept = input.positions.len();
+                report.euler = target;
+                report.total = start.elapsed();
+                return Ok(report);
+            }
+            report
+                .abandoned
+                .push(String::from("topology differs from Θ's with no deep difference"));
+            continue;
+        }
+        let clock = Instant::now();
+        let outcome = attempt_region(&grid, theta, &region, &mut checks);
+        report.rebuild += clock.elapsed();
+        match outcome {
+            Err(points) => {
+                report
+                    .abandoned
+                    .push(format!("could not cut or fill near {:?}", points.first()));
+                extra.extend(points.iter().flat_map(|p| point_cells(&grid, p)));
+            }
+            Ok((built, splits)) => match verify(&built.mesh, &target) {
+                Ok(()) => {
+                    let recorded = record(&grid, &built, &splits, mesh.next_id());
+                    report.resampling = Resampling::Local { attempt };
+                    commit(mesh, built.mesh, recorded, &mut report)?;
+                    report.euler = target;
+                    report.total = start.elapsed();
+                    return Ok(report);
+                }
+                Err(Failure::Topology) => {
+                    report
+                        .abandoned
+                        .push(String::from("topology differs from Θ's after re-sampling"));
+                }
+                Err(Failure::Element(vertices)) => {
+                    report.abandoned.push(format!(
+                        "invalid element at {:?}",
+                        vertices
+                            .iter()
+                            .filter_map(|&v| built.points.get(v as usize))
+                            .collect::<Vec<_>>()
+                    ));
+                    extra.extend(
+                        vertices
+                            .iter()
+                            .filter_map(|&v| built.points.get(v as usize))
+                            .flat_map(|p| point_cells(&grid, p)),
+                    );
+                }
+            },
+        }
+        extra = widen(&extra);
+    }
+    replace_whole(mesh, &grid, theta, &surface, iso, &target, start, report)
+}
+
+/// The attempts, from the configured depth to the strictest classification with wide margins.
+fn ladder(options: &TopologyOptions) -> Vec<Strictness> {
+    let mut steps = vec![Strictness {
+        depth: options.depth,
+        faces: false,
+        dilate: 0,
+    }];
+    if options.depth > 0 {
+        steps.push(Strictness {
+            depth: 0,
+            faces: false,
+            dilate: 0,
+        });
+    }
+    for dilate in [0, 1, 3] {
+        steps.push(Strictness {
+            depth: 0,
+            faces: true,
+            dilate,
+        });
+    }
+    steps
+}
+
+/// Cut, fill and assemble for one region.
+#[allow(clippy::type_complexity)]
+fn attempt_region(
+    grid: &MeshGrid,
+    theta: &Field,
+    region: &FxHashSet<Cell>,
+    checks: &mut Checks,
+) -> Result<(Built, rustc_hash::FxHashMap<u32, Vec<(u8, i32)>>), Vec<Point>> {
+    let mut cells: Vec<Cell> = region.iter().copied().collect();
+    cells.sort_unstable();
+    let mut fronts: Vec<(GridFace, Rc<Vec<Arc>>)> = Vec::new();
+    for &cell in &cells {
+        for f in 0..6 {
+            if region.contains(&cell_neighbour(cell, f)) {
+                continue;
+            }
+            let face = cell_face(cell, f);
+            let arcs = checks.face(face).ok_or_else(|| vec![Point::Centre { cell, index: 0 }])?;
+            fronts.push((face, arcs));
+        }
+    }
+    let kept = cut(grid, region, &fronts).map_err(|t| {
+        grid.mesh.triangles[t as usize]
+            .map(Point::Vertex)
+            .to_vec()
+    })?;
+    let filled = fill(grid, theta, region, &cells, checks)
+        .map_err(|cell| vec![Point::Centre { cell, index: 0 }])?;
+    let built = build(grid, theta, &kept, &filled)?;
+    Ok((built, kept.splits))
+}
+
+enum Failure {
+    /// Not closed, manifold or non-degenerate around these output vertices.
+    Element(Vec<u32>),
+    /// Valid, but with a topology other than Θ's.
+    Topology,
+}
+
+fn verify(mesh: &IndexedMesh, target: &[i64]) -> Result<(), Failure> {
+    if mesh.triangles.is_empty() {
+        return if target.is_empty() { Ok(()) } else { Err(Failure::Topology) };
+    }
+    match mesh.validate() {
+        Ok(()) => {}
+        Err(e) => {
+            let vertices = match e {
+                MeshError::DegenerateFace { triangle } => mesh.triangles[triangle].to_vec(),
+                MeshError::OpenBoundary { a, b, .. }
+                | MeshError::NonManifoldEdge { a, b, .. }
+                | MeshError::InconsistentOrientation { a, b, .. } => vec![a, b],
+                MeshError::NonManifoldVertex { vertex, .. } => vec![vertex],
+                MeshError::IsolatedVertex { vertex } => vec![vertex as u32],
+                MeshError::NonFiniteCoordinate { vertex, .. } => vec![vertex as u32],
+                _ => Vec::new(),
+            };
+            return Err(Failure::Element(vertices));
+        }
+    }
+    if signature(mesh) == target {
+        Ok(())
+    } else {
+        Err(Failure::Topology)
+    }
+}
+
+/// Cells a point lies in or on.
+fn point_cells(grid: &MeshGrid, p: &Point) -> Vec<Cell> {
+    match *p {
+        Point::Vertex(v) => vec![grid.vertex_cell(v)],
+        Point::Pierce { edge, axis, plane } => {
+            let cell = grid.segments[edge as usize].face(usize::from(axis), plane);
+            GridFace::new(cell, usize::from(axis)).cells().to_vec()
+        }
+        Point::Crossing { edge, .. } | Point::Level(edge) => edge.cells().to_vec(),
+        Point::Centre { cell, .. } => vec![cell],
+    }
+}
+
+/// Cells around the given ones (one cell in every direction), sorted.
+fn widen(cells: &[Cell]) -> Vec<Cell> {
+    let mut out: Vec<Cell> = cells
+        .iter()
+        .flat_map(|&c| {
+            (-1..=1).flat_map(move |x| {
+                (-1..=1).flat_map(move |y| (-1..=1).map(move |z| [c[0] + x, c[1] + y, c[2] + z]))
+            })
+        })
+        .collect();
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+/// Replaces `mesh` by `output`, with the recorded ids and attributes, keeping its id counter
+/// moving forward and its mutation journal.
+fn commit(
+    mesh: &mut Mesh,
+    mut output: IndexedMesh,
+    recorded: super::record::Recorded,
+    report: &mut TopologyReport,
+) -> Result<(), TopologyError> {
+    let created = (recorded.cut + recorded.patch) as u64;
+    report.kept = output.positions.len() - recorded.cut - recorded.patch;
+    report.deleted = recorded.deleted;
+    report.cut = recorded.cut;
+    report.patch = recorded.patch;
+    report.events = recorded.events;
+    output.ids = Some(recorded.ids);
+    output.attributes = recorded.attributes;
+    let mut rebuilt = if output.triangles.is_empty() {
+        empty_like(mesh)
+    } else {
+        Mesh::from_indexed(&output)?
+    };
+    rebuilt.next_id = mesh.next_id() + created;
+    rebuilt.journal = mesh.journal.take();
+    *mesh = rebuilt;
+    Ok(())
+}
+
+/// A mesh with no vertices and the same attribute channels.
+fn empty_like(mesh: &Mesh) -> Mesh {
+    Mesh {
+        positions: Vec::new(),
+        ids: Vec::new(),
+        vertex_half_edge: Vec::new(),
+        origin: Vec::new(),
+        twin: Vec::new(),
+        attributes: mesh
+            .attributes()
+            .iter()
+            .map(|a| Attribute {
+                name: a.name.clone(),
+                components: a.components,
+                values: Vec::new(),
+            })
+            .collect(),
+        free_vertices: Vec::new(),
+        free_faces: Vec::new(),
+        next_id: mesh.next_id(),
+        journal: None,
+    }
+}
+
+/// The last resort: every input vertex is removed and Θ's isosurface takes the mesh's place.
+#[allow(clippy::too_many_arguments)]
+fn replace_whole(
+    mesh: &mut Mesh,
+    grid: &MeshGrid,
+    theta: &Field,
+    surface: &[Cell],
+    iso: IndexedMesh,
+    target: &[i64],
+    start: Instant,
+    mut report: TopologyReport,
+) -> Result<TopologyReport, TopologyError> {
+    let clock = Instant::now();
+    let (_, edges) = isosurface(theta, surface);
+    if let Err(Failure::Element(_) | Failure::Topology) = verify(&iso, target) {
+        return Err(TopologyError::Unresolved {
+            attempts: ladder(&TopologyOptions::default()).len() + 1,
+            reason: report.abandoned.join("; "),
+        });
+    }
+    let built = Built {
+        points: edges.into_iter().map(Point::Level).collect(),
+        mesh: iso,
+        parameters: Default::default(),
+    };
+    let recorded = record(grid, &built, &Default::default(), mesh.next_id());
+    report.resampling = Resampling::Whole;
+    report.region_cells = surface.len();
+    commit(mesh, built.mesh, recorded, &mut report)?;
+    report.euler = target.to_vec();
+    report.rebuild += clock.elapsed();
+    report.total = start.elapsed();
+    Ok(report)
+}

@@ -1,0 +1,27 @@
+use thiserror::Error;
+
+use crate::grid::RasterError;
+use crate::mesh::MeshError;
+use crate::project::ProjectError;
+
+/// Why `constrain_topology` or the construction of Θ failed.
+///
+/// Input problems (a mesh that is not closed and manifold, a coordinate the grid cannot address) are
+/// kept apart from [`TopologyError::Unresolved`], which would mean the method itself failed: every
+/// attempt, the last of which replaces the whole surface by Θ's isosurface, produced a mesh that is
+/// not closed, manifold and non-degenerate.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum TopologyError {
+    #[error(transparent)]
+    Raster(#[from] RasterError),
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    #[error(transparent)]
+    Project(#[from] ProjectError),
+    #[error("mesh edge {a}-{b} borders {count} triangles; the tracked mesh must be closed and manifold")]
+    NotManifold { a: u32, b: u32, count: usize },
+    #[error("a sampled field of {dims:?} corners is too large")]
+    FieldTooLarge { dims: [usize; 3] },
+    #[error("no valid surface after {attempts} attempts: {reason}")]
+    Unresolved { attempts: usize, reason: String },
+}

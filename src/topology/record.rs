@@ -1,0 +1,320 @@
+//! The event records of one topology change (paper §4.4) and the attribute values of new vertices.
+//!
+//! * A cut point is a vertex inserted on the input surface: on a mesh edge (`split_edge`, linear
+//!   in its parameter) or inside a triangle (`split_face`, barycentric).
+//! * A deleted vertex takes, going backward, the average of its neighbours already visited by a
+//!   breadth-first march inward from the patch boundary (the surviving cut points around it): the
+//!   events are listed innermost first, so each rule reads only vertices that still exist when it
+//!   applies, and composing them gives the paper's linear combination of boundary vertices without
+//!   storing it per vertex. No forward rule.
+//! * A new fill vertex takes, going forward, the average of its neighbours already visited by the
+//!   same march over the fill from its boundary, outermost first. No backward rule.
+//!
+//! A patch with no boundary (a component appearing or vanishing whole) has nothing to average: its
+//! vertices get events without rules, and new ones zero attribute values.
+
+use glam::Vec3;
+
+use super::build::Built;
+use super::mesh_grid::MeshGrid;
+use super::points::Point;
+use crate::events::{Event, EventKind, EventList};
+use crate::mesh::Attribute;
+use rustc_hash::{FxHashMap, FxHashSet};
+
+/// Ids, attributes and events of an assembled surface.
+#[derive(Debug, Clone)]
+pub(crate) struct Recorded {
+    pub ids: Vec<u64>,
+    pub attributes: Vec<Attribute>,
+    pub events: EventList,
+    pub cut: usize,
+    pub patch: usize,
+    pub deleted: usize,
+}
+
+/// A neighbour in the breadth-first marches: a vertex of the result or a deleted input vertex.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Near {
+    Boundary(u32),
+    Patch(u32),
+}
+
+pub(crate) fn record(
+    grid: &MeshGrid,
+    built: &Built,
+    splits: &FxHashMap<u32, Vec<(u8, i32)>>,
+    next_id: u64,
+) -> Recorded {
+    let input = grid.mesh;
+    let n_in = input.positions.len();
+    let input_ids: Vec<u64> = match &input.ids {
+        Some(ids) if ids.len() == n_in => ids.clone(),
+        _ => (0..n_in as u64).collect(),
+    };
+    let n_out = built.points.len();
+    let mut ids = vec![0u64; n_out];
+    let mut output_of = vec![u32::MAX; n_in];
+    let mut fresh = next_id;
+    for (i, p) in built.points.iter().enumerate() {
+        ids[i] = match *p {
+            Point::Vertex(v) => {
+                output_of[v as usize] = i as u32;
+                input_ids[v as usize]
+            }
+            _ => {
+                fresh += 1;
+                fresh - 1
+            }
+        };
+    }
+    let mut attributes: Vec<Attribute> = input
+        .attributes
+        .iter()
+        .map(|a| Attribute {
+            name: a.name.clone(),
+            components: a.components,
+            values: vec![0.0; a.components * n_out],
+        })
+        .collect();
+    let mut events = EventList::new();
+
+    // Cut points, and the attributes of every vertex on the input surface.
+    let mut cut = 0;
+    for (i, p) in built.points.iter().enumerate() {
+        let terms: Vec<(u32, f32)> = match *p {
+            Point::Vertex(v) => vec![(v, 1.0)],
+            Point::Pierce { edge, axis, plane } => {
+                let s = built.parameters.get(&(edge, axis, plane)).copied().unwrap_or(0.5) as f32;
+                let [a, b] = grid.edges.verts[edge as usize];
+                events.push(Event::split_edge(
+                    input_ids[a as usize],
+                    input_ids[b as usize],
+                    ids[i],
+                    s,
+                ));
+                vec![(a, 1.0 - s), (b, s)]
+            }
+            Point::Crossing { triangle, .. } => {
+                let corners = input.triangles[triangle as usize];
+                let w = barycentric(
+                    corners.map(|v| input.positions[v as usize]),
+                    built.mesh.positions[i],
+                );
+                events.push(Event::split_face(
+                    corners.map(|v| input_ids[v as usize]),
+                    ids[i],
+                    w,
+                ));
+                corners.into_iter().zip(w).collect()
+            }
+            Point::Level(_) | Point::Centre { .. } => continue,
+        };
+        cut += usize::from(!matches!(p, Point::Vertex(_)));
+        for (a, src) in attributes.iter_mut().zip(&input.attributes) {
+            let k = a.components;
+            for (v, w) in &terms {
+                for c in 0..k {
+                    a.values[i * k + c] += w * src.values[*v as usize * k + c];
+                }
+            }
+        }
+    }
+
+    // Deleted vertices: neighbours along input edges, through the nearest surviving cut point.
+    let mut pierce_index: FxHashMap<Point, u32> = FxHashMap::default();
+    for (i, p) in built.points.iter().enumerate() {
+        if matches!(p, Point::Pierce { .. }) {
+            pierce_index.insert(*p, i as u32);
+        }
+    }
+    let deleted: Vec<u32> = (0..n_in as u32)
+        .filter(|&v| output_of[v as usize] == u32::MAX)
+        .collect();
+    let mut around: Vec<Vec<Near>> = vec![Vec::new(); n_in];
+    for (e, &[v0, v1]) in grid.edges.verts.iter().enumerate() {
+        for (d, x, forward) in [(v0, v1, true), (v1, v0, false)] {
+            if output_of[d as usize] != u32::MAX {
+                continue;
+            }
+            let list = splits.get(&(e as u32)).map_or(&[][..], |l| l.as_slice());
+            let mut order: Vec<&(u8, i32)> = list.iter().collect();
+            if !forward {
+                order.reverse();
+            }
+            let through = order.iter().find_map(|&&(axis, plane)| {
+                pierce_index
+                    .get(&Point::Pierce {
+                        edge: e as u32,
+                        axis,
+                        plane,
+                    })
+                    .copied()
+            });
+            around[d as usize].push(match through {
+                Some(i) => Near::Boundary(i),
+                None if output_of[x as usize] != u32::MAX => Near::Boundary(output_of[x as usize]),
+                None => Near::Patch(x),
+            });
+        }
+    }
+    let (order, rules) = march(&deleted, |d| &around[d as usize]);
+    let rule_ids = |terms: &[Near]| -> Vec<(u64, f32)> {
+        let w = 1.0 / terms.len() as f32;
+        terms
+            .iter()
+            .map(|t| match *t {
+                Near::Boundary(i) => (ids[i as usize], w),
+                Near::Patch(v) => (input_ids[v as usize], w),
+            })
+            .collect()
+    };
+    let reached: FxHashSet<u32> = order.iter().copied().collect();
+    for &d in deleted.iter().filter(|d| !reached.contains(d)) {
+        events.push(Event {
+            kind: EventKind::PatchDeleted,
+            inputs: vec![input_ids[d as usize]],
+            outputs: Vec::new(),
+            forward: Vec::new(),
+            backward: Vec::new(),
+        });
+    }
+    for (d, terms) in order.iter().zip(&rules).rev() {
+        events.push(Event::patch_deleted(input_ids[*d as usize], rule_ids(terms)));
+    }
+
+    // New fill vertices: neighbours along the result's edges.
+    let fill: Vec<u32> = (0..n_out as u32)
+        .filter(|&i| built.points[i as usize].is_fill())
+        .collect();
+    let mut adjacent: FxHashMap<u32, Vec<Near>> = FxHashMap::default();
+    for tri in &built.mesh.triangles {
+        for k in 0..3 {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            for (x, y) in [(a, b), (b, a)] {
+                if built.points[x as usize].is_fill() {
+                    let near = if built.points[y as usize].is_fill() {
+                        Near::Patch(y)
+                    } else {
+                        Near::Boundary(y)
+                    };
+                    adjacent.entry(x).or_default().push(near);
+                }
+            }
+        }
+    }
+    for list in adjacent.values_mut() {
+        list.sort_unstable();
+        list.dedup();
+    }
+    let empty = Vec::new();
+    let (order, rules) = march(&fill, |v| adjacent.get(&v).unwrap_or(&empty));
+    for (&v, terms) in order.iter().zip(&rules) {
+        let w = 1.0 / terms.len() as f32;
+        let sources: Vec<u32> = terms
+            .iter()
+            .map(|t| match *t {
+                Near::Boundary(i) | Near::Patch(i) => i,
+            })
+            .collect();
+        for a in attributes.iter_mut() {
+            let k = a.components;
+            for c in 0..k {
+                let sum: f32 = sources.iter().map(|&s| a.values[s as usize * k + c]).sum();
+                a.values[v as usize * k + c] = w * sum;
+            }
+        }
+        let terms = sources.iter().map(|&s| (ids[s as usize], w)).collect();
+        events.push(Event::patch_created(ids[v as usize], terms));
+    }
+    let reached: FxHashSet<u32> = order.iter().copied().collect();
+    for &v in fill.iter().filter(|v| !reached.contains(v)) {
+        events.push(Event {
+            kind: EventKind::PatchCreated,
+            inputs: Vec::new(),
+            outputs: vec![ids[v as usize]],
+            forward: Vec::new(),
+            backward: Vec::new(),
+        });
+    }
+    Recorded {
+        ids,
+        attributes,
+        events,
+        cut,
+        patch: fill.len(),
+        deleted: deleted.len(),
+    }
+}
+
+/// Breadth-first march over `patch` (vertices whose neighbours are listed by `near`: `Output`
+/// neighbours are the known boundary, `Deleted` ones other patch vertices) from the boundary
+/// inward. Returns the vertices in the order they are visited and, for each, its neighbours visited
+/// before it. Vertices no path from the boundary reaches are left out.
+fn march<'a, F>(patch: &[u32], near: F) -> (Vec<u32>, Vec<Vec<Near>>)
+where
+    F: Fn(u32) -> &'a Vec<Near>,
+{
+    let mut visited: FxHashSet<u32> = FxHashSet::default();
+    let mut order: Vec<u32> = Vec::new();
+    let mut rules: Vec<Vec<Near>> = Vec::new();
+    let mut visit = |v: u32, visited: &mut FxHashSet<u32>, order: &mut Vec<u32>| {
+        let terms: Vec<Near> = near(v)
+            .iter()
+            .copied()
+            .filter(|n| match n {
+                Near::Boundary(_) => true,
+                Near::Patch(u) => visited.contains(u),
+            })
+            .collect();
+        visited.insert(v);
+        order.push(v);
+        rules.push(terms);
+    };
+    for &v in patch {
+        if near(v).iter().any(|n| matches!(n, Near::Boundary(_))) {
+            visit(v, &mut visited, &mut order);
+        }
+    }
+    let mut head = 0;
+    while head < order.len() {
+        let v = order[head];
+        head += 1;
+        let mut next: Vec<u32> = near(v)
+            .iter()
+            .filter_map(|n| match n {
+                Near::Patch(u) if !visited.contains(u) => Some(*u),
+                _ => None,
+            })
+            .collect();
+        next.sort_unstable();
+        next.dedup();
+        for u in next {
+            if !visited.contains(&u) {
+                visit(u, &mut visited, &mut order);
+            }
+        }
+    }
+    (order, rules)
+}
+
+/// Barycentric weights of the point of triangle `[a, b, c]` nearest to `p`, clamped non-negative.
+fn barycentric([a, b, c]: [Vec3; 3], p: Vec3) -> [f32; 3] {
+    let (a, b, c, p) = (a.as_dvec3(), b.as_dvec3(), c.as_dvec3(), p.as_dvec3());
+    let (v0, v1, v2) = (b - a, c - a, p - a);
+    let (d00, d01, d11) = (v0.dot(v0), v0.dot(v1), v1.dot(v1));
+    let (d20, d21) = (v2.dot(v0), v2.dot(v1));
+    let denom = d00 * d11 - d01 * d01;
+    let (v, w) = if denom > 0.0 {
+        ((d11 * d20 - d01 * d21) / denom, (d00 * d21 - d01 * d20) / denom)
+    } else {
+        (1.0 / 3.0, 1.0 / 3.0)
+    };
+    let raw = [1.0 - v - w, v, w].map(|x: f64| x.max(0.0));
+    let sum: f64 = raw.iter().sum();
+    if sum > 0.0 {
+        raw.map(|x| (x / sum) as f32)
+    } else {
+        [1.0 / 3.0; 3]
+    }
+}

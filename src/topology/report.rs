@@ -1,0 +1,54 @@
+use std::time::Duration;
+
+use crate::events::EventList;
+
+/// How the surface was replaced.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Resampling {
+    /// The mesh already had Θ's topology with no deep difference: nothing changed.
+    #[default]
+    None,
+    /// Cells around the differences were re-sampled; `attempt` counts from 0 (the classification
+    /// with the configured depth), later attempts being stricter or wider.
+    Local { attempt: usize },
+    /// Every local attempt failed and the whole surface was replaced by Θ's isosurface.
+    Whole,
+}
+
+/// What one call of `constrain_topology` did.
+#[derive(Debug, Clone, Default)]
+pub struct TopologyReport {
+    pub resampling: Resampling,
+    /// Cells seeding the complex region, and cells of the region after growth (last attempt).
+    pub seed_cells: usize,
+    pub region_cells: usize,
+    /// Input vertices kept (same id and position), removed, and new vertices on the cut and in
+    /// the fill.
+    pub kept: usize,
+    pub deleted: usize,
+    pub cut: usize,
+    pub patch: usize,
+    /// Euler characteristic of each component of the result, sorted (equal to Θ's isosurface).
+    pub euler: Vec<i64>,
+    /// Why each earlier attempt was abandoned, in order.
+    pub abandoned: Vec<String>,
+    /// Events of this call, in order (paper §4.4).
+    pub events: EventList,
+    /// Time spent classifying and growing the region, cutting, filling and assembling, in total.
+    pub classify: Duration,
+    pub rebuild: Duration,
+    pub total: Duration,
+}
+
+impl TopologyReport {
+    /// Whether the mesh was changed.
+    pub fn changed(&self) -> bool {
+        self.resampling != Resampling::None
+    }
+
+    /// Fraction of the input's vertices that were removed.
+    pub fn replaced_fraction(&self) -> f64 {
+        let input = self.kept + self.deleted;
+        if input == 0 { 0.0 } else { self.deleted as f64 / input as f64 }
+    }
+}

@@ -1,0 +1,289 @@
+//! The adversarial cases of the topology design note (§7), each checked against every guarantee:
+//! closed, manifold, oriented output with Θ's components and Euler characteristics, untouched
+//! vertices outside the region, events that carry constants, fill vertices on Θ's zero set.
+
+#[path = "topology_support/mod.rs"]
+mod topology_support;
+
+use glam::Vec3;
+use surftrack::compute::Backend;
+use surftrack::grid::{GridFrame, ScalarGrid, marching_cubes};
+use surftrack::mesh::{IndexedMesh, Mesh};
+use surftrack::topology::{Field, TopologyOptions, constrain_topology};
+use topology_support::{Case, Kind, Outcome, check, euler_list};
+
+fn frame() -> GridFrame {
+    GridFrame::new(Vec3::new(0.013, -0.021, 0.007), 1.0).unwrap()
+}
+
+/// Marching cubes of `f` on a grid of spacing `h` offset from the topology grid.
+fn surface(f: impl Fn(Vec3) -> f32 + Sync, h: f32) -> IndexedMesh {
+    let n = (30.0 / h).ceil() as usize;
+    let origin = Vec3::splat(-15.0) + Vec3::new(0.31, 0.17, 0.43) * h;
+    let grid = ScalarGrid::from_fn(origin, h, [n; 3], f).unwrap();
+    marching_cubes(&grid, 0.0)
+}
+
+fn ball(c: Vec3, r: f32) -> impl Fn(Vec3) -> f32 + Sync {
+    move |p| (p - c).length() - r
+}
+
+fn union(
+    a: impl Fn(Vec3) -> f32 + Sync,
+    b: impl Fn(Vec3) -> f32 + Sync,
+) -> impl Fn(Vec3) -> f32 + Sync {
+    move |p| a(p).min(b(p))
+}
+
+fn torus(major: f32, minor: f32) -> impl Fn(Vec3) -> f32 + Sync {
+    move |p| {
+        let q = Vec3::new(p.x, p.y, 0.0).length() - major;
+        (q * q + p.z * p.z).sqrt() - minor
+    }
+}
+
+fn sampled(f: impl Fn(Vec3) -> f32 + Sync) -> Field {
+    Field::from_fn(frame(), [-16; 3], [16; 3], f).unwrap()
+}
+
+fn phi(mesh: &IndexedMesh) -> Field {
+    Field::signed_distance(&Backend::Cpu, frame(), mesh).unwrap()
+}
+
+fn checked(kind: Kind, mesh: IndexedMesh, theta: Field) -> Outcome {
+    let case = Case { kind, mesh, theta };
+    match check(&case) {
+        Ok(o) => {
+            assert!(o.fill_error <= 0.5, "fill vertex {} cells from Θ's zero set", o.fill_error);
+            o
+        }
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// The result of one call, to call again on.
+fn after(mesh: &IndexedMesh, theta: &Field) -> IndexedMesh {
+    let mut m = Mesh::from_indexed(mesh).unwrap();
+    constrain_topology(&mut m, theta, &TopologyOptions::default()).unwrap();
+    m.to_indexed()
+}
+
+#[test]
+fn clean_sphere_and_torus_are_left_alone_by_their_own_distance() {
+    for mesh in [surface(ball(Vec3::ZERO, 6.3), 0.9), surface(torus(6.0, 2.2), 1.1)] {
+        let o = checked(Kind::SelfClean, mesh.clone(), phi(&mesh));
+        assert!(!o.changed);
+    }
+}
+
+#[test]
+fn a_second_call_changes_nothing() {
+    let m = surface(union(ball(Vec3::new(-4.0, 0.0, 0.0), 3.5), ball(Vec3::new(4.2, 0.3, 0.0), 3.5)), 0.8);
+    let target = sampled(union(ball(Vec3::new(-3.0, 0.0, 0.0), 3.6), ball(Vec3::new(3.2, 0.3, 0.0), 3.6)));
+    let once = after(&m, &target);
+    assert_eq!(euler_list(&once), vec![2]);
+    let o = checked(Kind::Target, once.clone(), target);
+    assert!(!o.changed, "second call with the same Θ re-sampled");
+    let o = checked(Kind::SelfClean, once.clone(), phi(&once));
+    assert!(!o.changed, "Φ of the result re-sampled it");
+}
+
+/// A cube of side `n` cells whose vertices sit on grid corners, edges on grid edges and faces in
+/// grid planes, each face split into unit squares.
+fn grid_cube(lo: [i32; 3], n: i32) -> IndexedMesh {
+    let f = frame();
+    let mut positions = Vec::new();
+    let mut index = std::collections::HashMap::new();
+    let mut triangles = Vec::new();
+    let mut vertex = |c: [i32; 3], positions: &mut Vec<Vec3>| -> u32 {
+        *index.entry(c).or_insert_with(|| {
+            positions.push(f.corner_position(c));
+            positions.len() as u32 - 1
+        })
+    };
+    for axis in 0..3 {
+        let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+        for side in 0..2 {
+            for i in 0..n {
+                for j in 0..n {
+                    let at = |di: i32, dj: i32| {
+                        let mut c = lo;
+                        c[axis] += side * n;
+                        c[u] += i + di;
+                        c[v] += j + dj;
+                        c
+                    };
+                    let q = [at(0, 0), at(1, 0), at(1, 1), at(0, 1)].map(|c| vertex(c, &mut positions));
+                    if side == 1 {
+                        triangles.push([q[0], q[1], q[2]]);
+                        triangles.push([q[0], q[2], q[3]]);
+                    } else {
+                        triangles.push([q[0], q[2], q[1]]);
+                        triangles.push([q[0], q[3], q[2]]);
+                    }
+                }
+            }
+        }
+    }
+    let mesh = IndexedMesh::new(positions, triangles);
+    mesh.validate().unwrap();
+    mesh
+}
+
+#[test]
+fn a_cube_on_the_grid_lines() {
+    let cube = grid_cube([-3, -3, -3], 6);
+    checked(Kind::Snapped, cube.clone(), phi(&cube));
+    let shifted = sampled(|p| {
+        let q = (p - Vec3::new(1.5, 1.5, 1.5)).abs() - Vec3::splat(3.0);
+        q.max(Vec3::ZERO).length() + q.max_element().min(0.0)
+    });
+    let o = checked(Kind::Snapped, cube.clone(), shifted);
+    assert!(o.changed);
+    let bumped = sampled(union(
+        |p: Vec3| {
+            let q = p.abs() - Vec3::splat(3.0);
+            q.max(Vec3::ZERO).length() + q.max_element().min(0.0)
+        },
+        ball(Vec3::new(3.0, 0.0, 0.0), 2.0),
+    ));
+    checked(Kind::Snapped, cube, bumped);
+}
+
+#[test]
+fn two_spheres_overlapping_touching_and_apart() {
+    for gap in [-2.0f32, -0.5, 0.0, 0.5, 1.0, 3.0] {
+        let r = 4.0;
+        let a = surface(ball(Vec3::new(-r - gap / 2.0, 0.1, 0.0), r), 0.9);
+        let b = surface(ball(Vec3::new(r + gap / 2.0, 0.0, 0.2), r), 0.85);
+        let mut both = a.clone();
+        let offset = both.positions.len() as u32;
+        both.positions.extend(&b.positions);
+        both.triangles.extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
+        if both.validate().is_err() {
+            continue;
+        }
+        checked(Kind::SelfIntersecting, both.clone(), phi(&both));
+        let bridge = sampled(union(
+            union(ball(Vec3::new(-r - gap / 2.0, 0.1, 0.0), r), ball(Vec3::new(r + gap / 2.0, 0.0, 0.2), r)),
+            |p: Vec3| Vec3::new(0.0, p.y, p.z).length() - 1.5,
+        ));
+        let o = checked(Kind::Target, both, bridge);
+        assert!(o.changed);
+    }
+}
+
+#[test]
+fn components_appear_and_vanish() {
+    let m = surface(ball(Vec3::new(-5.0, 0.0, 0.0), 4.0), 0.9);
+    // A large and a tiny new component.
+    for r in [3.0, 0.7] {
+        let theta = sampled(union(ball(Vec3::new(-5.0, 0.0, 0.0), 4.0), ball(Vec3::new(7.0, 1.0, 0.0), r)));
+        assert!(checked(Kind::Target, m.clone(), theta).changed);
+    }
+    // The component is gone from Θ.
+    let o = checked(Kind::Target, m.clone(), sampled(ball(Vec3::new(30.0, 0.0, 0.0), 1.0)));
+    assert!(o.changed);
+    // Θ empty everywhere: the result is empty.
+    let o = checked(Kind::Target, m, sampled(|_| 1.0));
+    assert!(o.replaced > 0.99);
+    // A mesh inside one cell, invisible to every grid edge, vanishes.
+    let tiny = surface(ball(Vec3::new(0.5, 0.5, 0.5), 0.3), 0.1);
+    let o = checked(Kind::SelfClean, tiny.clone(), phi(&tiny));
+    assert!(o.changed && o.replaced > 0.99);
+}
+
+#[test]
+fn an_empty_mesh_takes_all_of_theta() {
+    let mut mesh = Mesh::from_indexed(&surface(ball(Vec3::ZERO, 3.0), 1.0)).unwrap();
+    constrain_topology(&mut mesh, &sampled(|_| 1.0), &TopologyOptions::default()).unwrap();
+    assert_eq!(mesh.face_count(), 0);
+    let report =
+        constrain_topology(&mut mesh, &sampled(torus(5.0, 2.0)), &TopologyOptions::default()).unwrap();
+    assert!(report.changed());
+    let out = mesh.to_indexed();
+    out.validate().unwrap();
+    assert_eq!(euler_list(&out), vec![0]);
+}
+
+#[test]
+fn ambiguous_faces_and_a_checkerboard() {
+    let m = surface(ball(Vec3::ZERO, 5.0), 0.9);
+    let f = frame();
+    let checker = move |p: Vec3| {
+        let g = ((p - f.origin()) / f.spacing()).round();
+        let inside_ball = p.length() < 5.0;
+        let parity = (g.x as i32 + g.y as i32 + g.z as i32).rem_euclid(2) == 0;
+        if p.x > 1.0 && p.length() < 6.0 {
+            if parity { -0.5 } else { 0.5 }
+        } else if inside_ball {
+            -1.0
+        } else {
+            1.0
+        }
+    };
+    checked(Kind::Target, m.clone(), sampled(checker));
+    // Diagonal blobs: cells whose corners alternate along a diagonal plane.
+    let diagonal = move |p: Vec3| {
+        let g = ((p - f.origin()) / f.spacing()).round();
+        if p.length() < 5.0 && (g.x as i32 + g.y as i32).rem_euclid(3) == 0 { 0.5 } else { p.length() - 5.0 }
+    };
+    checked(Kind::Target, m, sampled(diagonal));
+}
+
+#[test]
+fn huge_triangles_slivers_and_near_planes() {
+    // An octahedron with triangles spanning about 20 cells.
+    let r = 14.0;
+    let positions = vec![
+        Vec3::new(r, 0.3, 0.1),
+        Vec3::new(-r, 0.2, -0.1),
+        Vec3::new(0.1, r, 0.2),
+        Vec3::new(-0.2, -r, 0.3),
+        Vec3::new(0.3, 0.1, r),
+        Vec3::new(0.2, -0.3, -r),
+    ];
+    let triangles = vec![
+        [0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4],
+        [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5],
+    ];
+    let octa = IndexedMesh::new(positions, triangles);
+    octa.validate().unwrap();
+    checked(Kind::SelfClean, octa.clone(), phi(&octa));
+    let notched = sampled(move |p: Vec3| {
+        let o = p.x.abs() + p.y.abs() + p.z.abs() - r;
+        o.max(-((p - Vec3::new(5.0, 5.0, 4.0)).length() - 3.0))
+    });
+    assert!(checked(Kind::Target, octa.clone(), notched).changed);
+    // The same with vertices a float step away from grid planes and corners.
+    let f = frame();
+    let mut near = octa.clone();
+    for p in &mut near.positions {
+        for a in 0..3 {
+            let plane = f.origin()[a] + f.spacing() * ((p[a] - f.origin()[a]) / f.spacing()).round();
+            p[a] = if a % 2 == 0 { plane.next_up() } else { plane.next_down() };
+        }
+    }
+    near.validate().unwrap();
+    checked(Kind::Snapped, near.clone(), phi(&near));
+    let bumped = sampled(move |p: Vec3| {
+        let o = p.x.abs() + p.y.abs() + p.z.abs() - r;
+        o.min((p - Vec3::new(-6.0, 5.0, 4.0)).length() - 3.0)
+    });
+    checked(Kind::Snapped, near, bumped);
+}
+
+#[test]
+fn thin_strands_follow_the_deep_rule() {
+    for radius in [0.15f32, 0.5, 1.5] {
+        let dumbbell = union(
+            union(ball(Vec3::new(-6.0, 0.0, 0.0), 3.0), ball(Vec3::new(6.0, 0.0, 0.0), 3.0)),
+            move |p: Vec3| Vec3::new(0.0, p.y - 0.2, p.z - 0.1).length() - radius,
+        );
+        let m = surface(dumbbell, 0.12_f32.max(radius / 2.0));
+        if m.validate().is_err() {
+            continue;
+        }
+        checked(Kind::SelfClean, m.clone(), phi(&m));
+    }
+}
