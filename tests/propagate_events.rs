@@ -131,9 +131,9 @@ fn backward_undoes_forward_when_nothing_is_removed() {
     let dir = tempfile::tempdir().unwrap();
     let frames = write_sequence(dir.path(), 4, Ops::Refine, 100, 3);
     let (truth0, _) = channel(&frames[0], "truth");
-    let forward = carried(dir.path(), Direction::Forward, &[truth0.clone()]);
+    let forward = carried(dir.path(), Direction::Forward, std::slice::from_ref(truth0));
     let (last, _) = channel(&forward[3].1, "truth");
-    let backward = carried(dir.path(), Direction::Backward, &[last.clone()]);
+    let backward = carried(dir.path(), Direction::Backward, std::slice::from_ref(last));
     assert_eq!(
         backward.iter().map(|(k, _)| *k).collect::<Vec<_>>(),
         [3, 2, 1, 0]

@@ -200,13 +200,13 @@ pub fn run(args: &TrackArgs) -> Result<(), CliError> {
     } else {
         ProgressDrawTarget::stderr()
     });
-    for k in state.completed..input.len() {
+    for (k, path) in input.iter().enumerate().skip(state.completed) {
         bar.set_message(format!("frame {k}: reading"));
-        let target = read_frame(&input[k])?.mesh;
+        let target = read_frame(path)?.mesh;
         if let Err(e) = target.validate() {
             bar.println(format!(
                 "warning: {}: {e}; using it as a target anyway (only its voxelization and projection are used)",
-                input[k].display()
+                path.display()
             ));
         }
         bar.set_message(format!("frame {k}: tracking"));

@@ -29,6 +29,16 @@ pub fn transfer(path: &Path, name: &str, mesh: &IndexedMesh) -> Result<Attribute
         });
     };
     let k = attribute.components;
+    if attribute.values.len() != k * source.positions.len() {
+        return Err(PropagateError::Inconsistent {
+            path: path.to_path_buf(),
+            what: format!(
+                "attribute '{name}' has {} values for {} vertices × {k} components",
+                attribute.values.len(),
+                source.positions.len()
+            ),
+        });
+    }
     if let Some(values) = by_id(&source, attribute, mesh) {
         return Ok(Attribute {
             name: name.to_string(),
