@@ -105,6 +105,21 @@ fn random_mutations_on_a_torus_keep_the_mesh_valid() {
     exercise(&IndexedMesh::torus(2.0, 0.7, 24, 12), 2, 3000);
 }
 
+/// Raw marching-cubes output of a synth scene: slivers, near-degenerate triangles, two components.
+#[test]
+fn random_mutations_on_a_synth_frame_keep_the_mesh_valid() {
+    let options = surftrack::synth::SynthOptions {
+        resolution: 24,
+        frames: 2,
+    };
+    for (seed, frame) in surftrack::synth::generate(surftrack::synth::Scene::Merge, &options)
+        .unwrap()
+        .enumerate()
+    {
+        exercise(&frame.unwrap().mesh, 10 + seed as u64, 2000);
+    }
+}
+
 #[test]
 fn collapse_refuses_when_the_link_condition_fails() {
     let tet = IndexedMesh::new(

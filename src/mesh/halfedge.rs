@@ -229,7 +229,11 @@ impl Mesh {
     }
 
     pub fn prev(&self, h: HalfEdgeId) -> HalfEdgeId {
-        HalfEdgeId(if h.0 % 3 == 0 { h.0 + 2 } else { h.0 - 1 })
+        HalfEdgeId(if h.0.is_multiple_of(3) {
+            h.0 + 2
+        } else {
+            h.0 - 1
+        })
     }
 
     pub fn twin(&self, h: HalfEdgeId) -> HalfEdgeId {

@@ -46,7 +46,7 @@ impl Mesh {
 
     /// Splits face `f` at barycentric `weights` (all positive, summing to 1) into three faces.
     pub fn split_face(&mut self, f: FaceId, weights: [f32; 3]) -> Option<VertexId> {
-        if weights.iter().any(|&w| !(w > 0.0)) {
+        if weights.iter().any(|&w| w.is_nan() || w <= 0.0) {
             return None;
         }
         let [a, b, c] = self.face_vertices(f);
@@ -228,8 +228,8 @@ impl Mesh {
                     (self.origin.len() / 3 - 1) as u32
                 }
             };
-            for k in 0..3 {
-                self.origin[3 * f as usize + k] = tri[k].0;
+            for (k, v) in tri.iter().enumerate() {
+                self.origin[3 * f as usize + k] = v.0;
                 open.push(3 * f + k as u32);
             }
         }

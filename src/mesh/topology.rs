@@ -51,10 +51,7 @@ impl IndexedMesh {
         }
         let mut slot = vec![usize::MAX; n];
         let mut components: Vec<ComponentTopology> = Vec::new();
-        for v in 0..n {
-            if !used[v] {
-                continue;
-            }
+        for (v, _) in used.iter().enumerate().filter(|(_, u)| **u) {
             let root = find(&mut parent, v as u32) as usize;
             if slot[root] == usize::MAX {
                 slot[root] = components.len();
