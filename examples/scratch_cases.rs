@@ -1,3 +1,3 @@
-#[path = "../tests/topology_cases.rs"]
-mod cases;
+#[path = "../tests/topology_scenes.rs"]
+mod scenes;
 fn main() {}

@@ -13,14 +13,22 @@ fn main() {
     let frames: usize = args[3].parse().unwrap();
     let opts = SynthOptions { resolution, frames };
     let all: Vec<_> = generate(scene, &opts).unwrap().map(|f| f.unwrap()).collect();
+    eprintln!("generated");
     let frame = GridFrame::for_mesh(&all[0].mesh, 1.0).unwrap();
     println!("spacing {} vertices {}", frame.spacing(), all[0].mesh.positions.len());
-    for j in 1..frames {
+    let first: usize = args.get(4).map_or(1, |a| a.parse().unwrap());
+    let last: usize = args.get(5).map_or(frames, |a| a.parse().unwrap());
+    for j in first..last {
         let t = &all[j].mesh;
-        let mut m = all[j - 1].mesh.clone();
+        let base = all[j - 1].mesh.clone();
         let bvh = Bvh::build(t).unwrap();
-        let near = closest_points(&Backend::Cpu, &bvh, &m.positions, f32::INFINITY).unwrap();
-        for (p, n) in m.positions.iter_mut().zip(&near) { *p += 0.8 * (n.point - *p); }
+        let near = closest_points(&Backend::Cpu, &bvh, &base.positions, f32::INFINITY).unwrap();
+        let mut m = base.clone();
+        for blend in [1.0f32, 0.99, 0.95, 0.9, 0.8] {
+            m = base.clone();
+            for (p, n) in m.positions.iter_mut().zip(&near) { *p += blend * (n.point - *p); }
+            if m.validate().is_ok() { if blend < 1.0 { println!("blend {blend}"); } break; }
+        }
         if m.validate().is_err() { println!("frame {j}: projected mesh degenerate, skipped"); continue; }
         let mut mesh = Mesh::from_indexed(&m).unwrap();
         let n0 = mesh.vertex_count();

@@ -62,7 +62,9 @@ fn main() {
         "{cases} cases from seed {from} in {:.1} s: {failures} failures",
         start.elapsed().as_secs_f64()
     );
-    println!("kind              cases changed whole later-attempt worst-fill-error(cells) mean-replaced");
+    println!(
+        "kind              cases changed whole later-attempt worst-fill-error(cells) mean-replaced"
+    );
     for (kind, t) in &tallies {
         println!(
             "{:<17} {:>5} {:>7} {:>5} {:>13} {:>23.4} {:>13.4}",

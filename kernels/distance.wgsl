@@ -5,8 +5,9 @@
 //
 // One invocation per chunk of up to 16 corners along x: the triangles whose boxes lie within the
 // band of the chunk's segment are gathered once; each corner bounds every gathered triangle's
-// distance from below (the larger of its box's and its plane's), tests the one with the least
-// bound first, then those whose bound is below the best so far. A chunk near more than
+// distance from below (the larger of its box's and its plane's), tests the previous corner's
+// nearest first (for the first corner, the one with the least bound), then those whose bound is
+// below the best so far. A chunk near more than
 // GATHER_CAPACITY triangles searches the tree once per corner instead.
 
 @group(0) @binding(0) var<storage, read> params: array<DistanceParams>;
@@ -248,38 +249,52 @@ fn main(
         plane[k] = t.normal[0] * p.x + t.normal[1] * p.y + t.normal[2] * p.z - t.offset;
     }
 
+    var hint = NO_SLOT;
     for (var i = 0u; i < chunk.len; i += 1u) {
         let x = lo.x + f32(i);
         let corner = first + vec3<i32>(i32(i), 0, 0);
-        var least_k = 0u;
-        var least = bitcast<f32>(0x7f800000u);
         for (var k = 0u; k < gathered; k += 1u) {
             let slot = slots[k];
             let gap = max(max(boxes[slot].min[0] - x, x - boxes[slot].max[0]), 0.0);
             let to_plane = max(abs(plane[k] + triangles[slot].normal[0] * f32(i)) - PLANE_SLACK,
                 0.0);
-            let lower = max(across[k] + gap * gap, to_plane * to_plane);
-            bounds[k] = lower;
-            if lower < least {
-                least = lower;
-                least_k = k;
-            }
+            bounds[k] = max(across[k] + gap * gap, to_plane * to_plane);
         }
-        var best = Best(bound, NO_SLOT);
-        if least < best.distance_squared {
-            let d = triangle_distance_squared(slots[least_k], corner);
-            if d < best.distance_squared {
-                best = Best(d, slots[least_k]);
-            }
-        }
-        for (var k = 0u; k < gathered; k += 1u) {
-            if bounds[k] < best.distance_squared && k != least_k {
-                let d = triangle_distance_squared(slots[k], corner);
-                if d < best.distance_squared {
-                    best = Best(d, slots[k]);
+        // The previous corner's nearest triangle, or else the one with the least bound.
+        var start = hint;
+        if start == NO_SLOT {
+            var least = bitcast<f32>(0x7f800000u);
+            start = 0u;
+            for (var k = 0u; k < gathered; k += 1u) {
+                if bounds[k] < least {
+                    least = bounds[k];
+                    start = k;
                 }
             }
         }
-        nearest[chunk.out + i] = Nearest(best.distance_squared, best.slot);
+        var best = bound;
+        var found = NO_SLOT;
+        if start < gathered && bounds[start] < best {
+            let d = triangle_distance_squared(slots[start], corner);
+            if d < best {
+                best = d;
+                found = start;
+            }
+        }
+        for (var k = 0u; k < gathered; k += 1u) {
+            if bounds[k] < best && k != start {
+                let d = triangle_distance_squared(slots[k], corner);
+                if d < best {
+                    best = d;
+                    found = k;
+                }
+            }
+        }
+        hint = found;
+        var slot = NO_SLOT;
+        if found != NO_SLOT {
+            slot = slots[found];
+        }
+        nearest[chunk.out + i] = Nearest(best, slot);
     }
 }

@@ -21,6 +21,20 @@ fn timing() {
     let (mesh, frame) = metaballs();
     eprintln!("tris {} mean edge {} spacing {}", mesh.triangles.len(), mesh.mean_edge_length(), frame.spacing());
     let backend = &Backend::Cpu;
+    if std::env::var("BANDONLY").is_ok() {
+        let lattice = LatticeMesh::new(frame, &mesh).unwrap();
+        let crossings = rasterize(backend, &lattice).unwrap();
+        let windings = sweep(backend, &crossings).unwrap();
+        let faces = edge_faces(&lattice);
+        let cells = footprint(&lattice, &crossings, &faces);
+        let t = Instant::now();
+        let n: usize = std::env::var("BANDONLY").unwrap().parse().unwrap();
+        for _ in 0..n {
+            signed_distance(backend, &lattice, &cells, &windings, 3.0).unwrap();
+        }
+        eprintln!("band x10 {:?} {:?}", t.elapsed(), STATS);
+        return;
+    }
     for _ in 0..5 {
         let t = Instant::now();
         let lattice = LatticeMesh::new(frame, &mesh).unwrap();

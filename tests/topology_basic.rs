@@ -68,9 +68,20 @@ fn run(m: &IndexedMesh, frame: GridFrame, f: &(dyn Fn(Vec3) -> f32 + Sync), lo: 
 fn merge_two_spheres() {
     let spacing = 0.1;
     let frame = GridFrame::new(Vec3::ZERO, spacing).unwrap();
-    let a = [(Vec3::new(-0.55, 0.03, 0.01), 0.45), (Vec3::new(0.55, 0.0, 0.0), 0.45)];
-    let m = extract(&balls(&a), Vec3::splat(-1.5) + Vec3::new(0.013, 0.027, 0.041), 0.09, 36);
-    let b = [(Vec3::new(-0.4, 0.03, 0.01), 0.45), (Vec3::new(0.4, 0.0, 0.0), 0.45)];
+    let a = [
+        (Vec3::new(-0.55, 0.03, 0.01), 0.45),
+        (Vec3::new(0.55, 0.0, 0.0), 0.45),
+    ];
+    let m = extract(
+        &balls(&a),
+        Vec3::splat(-1.5) + Vec3::new(0.013, 0.027, 0.041),
+        0.09,
+        36,
+    );
+    let b = [
+        (Vec3::new(-0.4, 0.03, 0.01), 0.45),
+        (Vec3::new(0.4, 0.0, 0.0), 0.45),
+    ];
     run(&m, frame, &balls(&b), -14, 14);
 }
 
@@ -78,7 +89,12 @@ fn merge_two_spheres() {
 fn same_shape_is_untouched() {
     let frame = GridFrame::new(Vec3::ZERO, 0.1).unwrap();
     let a = [(Vec3::new(0.02, 0.03, 0.01), 0.6)];
-    let m = extract(&balls(&a), Vec3::splat(-1.0) + Vec3::new(0.013, 0.027, 0.041), 0.09, 24);
+    let m = extract(
+        &balls(&a),
+        Vec3::splat(-1.0) + Vec3::new(0.013, 0.027, 0.041),
+        0.09,
+        24,
+    );
     run(&m, frame, &balls(&a), -12, 12);
     let phi = Field::signed_distance(&Backend::Cpu, frame, &m).unwrap();
     let mut mesh = Mesh::from_indexed(&m).unwrap();
@@ -90,7 +106,15 @@ fn same_shape_is_untouched() {
 fn new_component_appears() {
     let frame = GridFrame::new(Vec3::ZERO, 0.1).unwrap();
     let a = [(Vec3::new(-0.5, 0.03, 0.01), 0.4)];
-    let m = extract(&balls(&a), Vec3::splat(-1.5) + Vec3::new(0.013, 0.027, 0.041), 0.09, 36);
-    let b = [(Vec3::new(-0.5, 0.03, 0.01), 0.4), (Vec3::new(0.7, 0.0, 0.0), 0.3)];
+    let m = extract(
+        &balls(&a),
+        Vec3::splat(-1.5) + Vec3::new(0.013, 0.027, 0.041),
+        0.09,
+        36,
+    );
+    let b = [
+        (Vec3::new(-0.5, 0.03, 0.01), 0.4),
+        (Vec3::new(0.7, 0.0, 0.0), 0.3),
+    ];
     run(&m, frame, &balls(&b), -14, 14);
 }

@@ -54,7 +54,11 @@ fn checked(kind: Kind, mesh: IndexedMesh, theta: Field) -> Outcome {
     let case = Case { kind, mesh, theta };
     match check(&case) {
         Ok(o) => {
-            assert!(o.fill_error <= 0.5, "fill vertex {} cells from Θ's zero set", o.fill_error);
+            assert!(
+                o.fill_error <= 0.5,
+                "fill vertex {} cells from Θ's zero set",
+                o.fill_error
+            );
             o
         }
         Err(e) => panic!("{e}"),
@@ -70,7 +74,10 @@ fn after(mesh: &IndexedMesh, theta: &Field) -> IndexedMesh {
 
 #[test]
 fn clean_sphere_and_torus_are_left_alone_by_their_own_distance() {
-    for mesh in [surface(ball(Vec3::ZERO, 6.3), 0.9), surface(torus(6.0, 2.2), 1.1)] {
+    for mesh in [
+        surface(ball(Vec3::ZERO, 6.3), 0.9),
+        surface(torus(6.0, 2.2), 1.1),
+    ] {
         let o = checked(Kind::SelfClean, mesh.clone(), phi(&mesh));
         assert!(!o.changed);
     }
@@ -78,8 +85,17 @@ fn clean_sphere_and_torus_are_left_alone_by_their_own_distance() {
 
 #[test]
 fn a_second_call_changes_nothing() {
-    let m = surface(union(ball(Vec3::new(-4.0, 0.0, 0.0), 3.5), ball(Vec3::new(4.2, 0.3, 0.0), 3.5)), 0.8);
-    let target = sampled(union(ball(Vec3::new(-3.0, 0.0, 0.0), 3.6), ball(Vec3::new(3.2, 0.3, 0.0), 3.6)));
+    let m = surface(
+        union(
+            ball(Vec3::new(-4.0, 0.0, 0.0), 3.5),
+            ball(Vec3::new(4.2, 0.3, 0.0), 3.5),
+        ),
+        0.8,
+    );
+    let target = sampled(union(
+        ball(Vec3::new(-3.0, 0.0, 0.0), 3.6),
+        ball(Vec3::new(3.2, 0.3, 0.0), 3.6),
+    ));
     let once = after(&m, &target);
     assert_eq!(euler_list(&once), vec![2]);
     let o = checked(Kind::Target, once.clone(), target);
@@ -113,7 +129,8 @@ fn grid_cube(lo: [i32; 3], n: i32) -> IndexedMesh {
                         c[v] += j + dj;
                         c
                     };
-                    let q = [at(0, 0), at(1, 0), at(1, 1), at(0, 1)].map(|c| vertex(c, &mut positions));
+                    let q =
+                        [at(0, 0), at(1, 0), at(1, 1), at(0, 1)].map(|c| vertex(c, &mut positions));
                     if side == 1 {
                         triangles.push([q[0], q[1], q[2]]);
                         triangles.push([q[0], q[2], q[3]]);
@@ -159,13 +176,17 @@ fn two_spheres_overlapping_touching_and_apart() {
         let mut both = a.clone();
         let offset = both.positions.len() as u32;
         both.positions.extend(&b.positions);
-        both.triangles.extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
+        both.triangles
+            .extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
         if both.validate().is_err() {
             continue;
         }
         checked(Kind::SelfIntersecting, both.clone(), phi(&both));
         let bridge = sampled(union(
-            union(ball(Vec3::new(-r - gap / 2.0, 0.1, 0.0), r), ball(Vec3::new(r + gap / 2.0, 0.0, 0.2), r)),
+            union(
+                ball(Vec3::new(-r - gap / 2.0, 0.1, 0.0), r),
+                ball(Vec3::new(r + gap / 2.0, 0.0, 0.2), r),
+            ),
             |p: Vec3| Vec3::new(0.0, p.y, p.z).length() - 1.5,
         ));
         let o = checked(Kind::Target, both, bridge);
@@ -178,11 +199,18 @@ fn components_appear_and_vanish() {
     let m = surface(ball(Vec3::new(-5.0, 0.0, 0.0), 4.0), 0.9);
     // A large and a tiny new component.
     for r in [3.0, 0.7] {
-        let theta = sampled(union(ball(Vec3::new(-5.0, 0.0, 0.0), 4.0), ball(Vec3::new(7.0, 1.0, 0.0), r)));
+        let theta = sampled(union(
+            ball(Vec3::new(-5.0, 0.0, 0.0), 4.0),
+            ball(Vec3::new(7.0, 1.0, 0.0), r),
+        ));
         assert!(checked(Kind::Target, m.clone(), theta).changed);
     }
     // The component is gone from Θ.
-    let o = checked(Kind::Target, m.clone(), sampled(ball(Vec3::new(30.0, 0.0, 0.0), 1.0)));
+    let o = checked(
+        Kind::Target,
+        m.clone(),
+        sampled(ball(Vec3::new(30.0, 0.0, 0.0), 1.0)),
+    );
     assert!(o.changed);
     // Θ empty everywhere: the result is empty.
     let o = checked(Kind::Target, m, sampled(|_| 1.0));
@@ -198,8 +226,12 @@ fn an_empty_mesh_takes_all_of_theta() {
     let mut mesh = Mesh::from_indexed(&surface(ball(Vec3::ZERO, 3.0), 1.0)).unwrap();
     constrain_topology(&mut mesh, &sampled(|_| 1.0), &TopologyOptions::default()).unwrap();
     assert_eq!(mesh.face_count(), 0);
-    let report =
-        constrain_topology(&mut mesh, &sampled(torus(5.0, 2.0)), &TopologyOptions::default()).unwrap();
+    let report = constrain_topology(
+        &mut mesh,
+        &sampled(torus(5.0, 2.0)),
+        &TopologyOptions::default(),
+    )
+    .unwrap();
     assert!(report.changed());
     let out = mesh.to_indexed();
     out.validate().unwrap();
@@ -226,7 +258,11 @@ fn ambiguous_faces_and_a_checkerboard() {
     // Diagonal blobs: cells whose corners alternate along a diagonal plane.
     let diagonal = move |p: Vec3| {
         let g = ((p - f.origin()) / f.spacing()).round();
-        if p.length() < 5.0 && (g.x as i32 + g.y as i32).rem_euclid(3) == 0 { 0.5 } else { p.length() - 5.0 }
+        if p.length() < 5.0 && (g.x as i32 + g.y as i32).rem_euclid(3) == 0 {
+            0.5
+        } else {
+            p.length() - 5.0
+        }
     };
     checked(Kind::Target, m, sampled(diagonal));
 }
@@ -244,8 +280,14 @@ fn huge_triangles_slivers_and_near_planes() {
         Vec3::new(0.2, -0.3, -r),
     ];
     let triangles = vec![
-        [0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4],
-        [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5],
+        [0, 2, 4],
+        [2, 1, 4],
+        [1, 3, 4],
+        [3, 0, 4],
+        [2, 0, 5],
+        [1, 2, 5],
+        [3, 1, 5],
+        [0, 3, 5],
     ];
     let octa = IndexedMesh::new(positions, triangles);
     octa.validate().unwrap();
@@ -260,8 +302,13 @@ fn huge_triangles_slivers_and_near_planes() {
     let mut near = octa.clone();
     for p in &mut near.positions {
         for a in 0..3 {
-            let plane = f.origin()[a] + f.spacing() * ((p[a] - f.origin()[a]) / f.spacing()).round();
-            p[a] = if a % 2 == 0 { plane.next_up() } else { plane.next_down() };
+            let plane =
+                f.origin()[a] + f.spacing() * ((p[a] - f.origin()[a]) / f.spacing()).round();
+            p[a] = if a % 2 == 0 {
+                plane.next_up()
+            } else {
+                plane.next_down()
+            };
         }
     }
     near.validate().unwrap();
@@ -277,7 +324,10 @@ fn huge_triangles_slivers_and_near_planes() {
 fn thin_strands_follow_the_deep_rule() {
     for radius in [0.15f32, 0.5, 1.5] {
         let dumbbell = union(
-            union(ball(Vec3::new(-6.0, 0.0, 0.0), 3.0), ball(Vec3::new(6.0, 0.0, 0.0), 3.0)),
+            union(
+                ball(Vec3::new(-6.0, 0.0, 0.0), 3.0),
+                ball(Vec3::new(6.0, 0.0, 0.0), 3.0),
+            ),
             move |p: Vec3| Vec3::new(0.0, p.y - 0.2, p.z - 0.1).length() - radius,
         );
         let m = surface(dumbbell, 0.12_f32.max(radius / 2.0));

@@ -23,7 +23,10 @@ fn random_cases_never_fail() {
             Err(e) => failures.push(format!("seed {seed} ({:?}): {e}", c.kind)),
         }
     }
-    eprintln!("{n} cases, {} failures, {whole} whole replacements, worst fill error {worst:.4} cells", failures.len());
+    eprintln!(
+        "{n} cases, {} failures, {whole} whole replacements, worst fill error {worst:.4} cells",
+        failures.len()
+    );
     for f in failures.iter().take(30) {
         eprintln!("{f}");
     }

@@ -186,6 +186,9 @@ fn chunks(rows: &Rows) -> Result<Vec<BandChunk>, RasterError> {
     Ok(chunks)
 }
 
+/// Bounds tested together before any is looked at alone.
+const SKIP_BLOCK: usize = 8;
+
 /// The larger of two numbers, as one vector instruction (no NaN can occur here).
 fn max(a: f32, b: f32) -> f32 {
     if a > b { a } else { b }
@@ -228,9 +231,10 @@ fn distance_cpu(tree: &TriangleTree, chunks: &[BandChunk], bound: f32) -> Vec<Ne
 ///
 /// The triangles whose boxes lie within the band of the chunk's segment are gathered once. For
 /// each corner a lower bound of every gathered triangle's distance is the larger of its box's and
-/// its plane's; the triangle with the least bound is tested first, which nearly always gives the
-/// final distance, and then only triangles whose bound is below the best so far. Pruning by lower
-/// bounds cannot change the minimum found.
+/// its plane's. The previous corner's nearest triangle (for the first corner, the one with the
+/// least bound) is tested first, which nearly always gives the final distance, and then only
+/// triangles whose bound is below the best so far. Pruning by lower bounds cannot change the
+/// minimum found.
 fn chunk_nearest(
     tree: &TriangleTree,
     chunk: &BandChunk,
@@ -273,6 +277,7 @@ fn chunk_nearest(
         g.plane_step.push(t.normal[0]);
     }
     g.bounds.resize(g.slots.len(), 0.0);
+    let mut hint = None;
     STATS[0].fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     STATS[1].fetch_add(g.slots.len(), std::sync::atomic::Ordering::Relaxed);
     STATS[2].fetch_add(chunk.len as usize, std::sync::atomic::Ordering::Relaxed);
@@ -290,33 +295,49 @@ fn chunk_nearest(
             let to_plane = max((plane + plane_step * step).abs() - PLANE_SLACK, 0.0);
             *lower = max(across + gap * gap, to_plane * to_plane);
         }
-        let mut first = 0;
-        let mut least = f32::INFINITY;
-        for (k, &lower) in g.bounds.iter().enumerate() {
-            if lower < least {
-                least = lower;
-                first = k;
+        // The previous corner's nearest triangle, or else the one with the least bound.
+        let first = match if std::env::var_os("ARGMIN").is_some() { None } else { hint } {
+            Some(k) => k,
+            None => {
+                let mut first = 0;
+                let mut least = f32::INFINITY;
+                for (k, &lower) in g.bounds.iter().enumerate() {
+                    if lower < least {
+                        least = lower;
+                        first = k;
+                    }
+                }
+                first
             }
-        }
+        };
         let mut best = bound;
-        let mut found = Nearest::NONE;
-        if least < best {
-            let slot = g.slots[first];
-            let d = tree.triangles()[slot as usize].distance_squared(corner);
+        let mut found = None;
+        if g.bounds.get(first).is_some_and(|&lower| lower < best) {
+            let d = tree.triangles()[g.slots[first] as usize].distance_squared(corner);
             if d < best {
                 best = d;
-                found = slot;
+                found = Some(first);
             }
         }
-        for (k, (&lower, &slot)) in g.bounds.iter().zip(&g.slots).enumerate() {
-            if lower < best && k != first {
-                let d = tree.triangles()[slot as usize].distance_squared(corner);
-                if d < best {
-                    best = d;
-                    found = slot;
+        // Blocks whose bounds all reach the best so far are skipped with one vector test.
+        for (b, block) in g.bounds.chunks(SKIP_BLOCK).enumerate() {
+            if !block.iter().fold(false, |any, &lower| any | (lower < best)) {
+                continue;
+            }
+            for (j, &lower) in block.iter().enumerate() {
+                let k = b * SKIP_BLOCK + j;
+                if lower < best && k != first {
+                    STATS[3].fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let d = tree.triangles()[g.slots[k] as usize].distance_squared(corner);
+                    if d < best {
+                        best = d;
+                        found = Some(k);
+                    }
                 }
             }
         }
+        hint = found;
+        let found = found.map_or(Nearest::NONE, |k| g.slots[k]);
         *result = Nearest {
             distance_squared: best,
             slot: found,

@@ -28,9 +28,22 @@ pub const CELL_UNITS: i64 = 1 << FRACTION_BITS;
 /// fit in `i64` and the orientation of a corner against the triangle's plane fits in `i128`.
 pub const MAX_TRIANGLE_SPAN: i64 = (1i64 << (31 - FRACTION_BITS)) - 1;
 
-/// Largest cell index in absolute value: cell indices and their differences are then exact in f32,
-/// which the distance computation relies on.
-pub const MAX_CELL_INDEX: i32 = 1 << 24;
+/// Largest cell index in absolute value. Cell indices and their differences are then exact in f32,
+/// which the distance computation relies on, and a cell one step beyond any vertex's still packs
+/// into 21 bits per axis ([`cell_key`]).
+pub const MAX_CELL_INDEX: i32 = (1 << 20) - 2;
+
+/// A cell as one sortable integer: ordering keys orders cells by `(z, y, x)`.
+pub fn cell_key(c: [i32; 3]) -> u64 {
+    let field = |v: i32| u64::from((v + (1 << 20)) as u32 & 0x1f_ffff);
+    field(c[2]) << 42 | field(c[1]) << 21 | field(c[0])
+}
+
+/// The cell of a [`cell_key`].
+pub fn key_cell(key: u64) -> [i32; 3] {
+    let field = |shift: u32| ((key >> shift) & 0x1f_ffff) as i32 - (1 << 20);
+    [field(0), field(21), field(42)]
+}
 
 /// A regular grid with corner `(i, j, k)` at `origin + spacing * (i, j, k)`, unbounded in every
 /// direction (indices are signed); only what the surface touches is ever stored.
@@ -276,6 +289,19 @@ mod tests {
     }
 
     #[test]
+    fn cell_keys_sort_by_z_y_x_and_round_trip() {
+        let m = MAX_CELL_INDEX + 1;
+        let mut cells = vec![[0, 0, 0], [-m, m, 3], [m, -m, 3], [5, 5, -m], [-1, 0, 0], [0, -1, 0]];
+        for &c in &cells {
+            assert_eq!(key_cell(cell_key(c)), c);
+        }
+        let mut by_key = cells.clone();
+        by_key.sort_by_key(|&c| cell_key(c));
+        cells.sort_by_key(|c| [c[2], c[1], c[0]]);
+        assert_eq!(by_key, cells);
+    }
+
+    #[test]
     fn bad_input_is_reported() {
         assert_eq!(
             GridFrame::new(Vec3::ZERO, 0.0),
@@ -287,7 +313,7 @@ mod tests {
             Err(RasterError::NonFinite { vertex: 3 })
         );
         assert!(matches!(
-            frame.snap(1, Vec3::new(0.0, 3e7, 0.0)),
+            frame.snap(1, Vec3::new(0.0, 2e6, 0.0)),
             Err(RasterError::OutOfRange { vertex: 1, .. })
         ));
         let mesh = IndexedMesh::new(

@@ -33,7 +33,7 @@ pub use distance::{STATS, BandChunk, NarrowBand, Nearest, signed_distance};
 pub use distance_gpu::DistanceParams;
 pub use lattice::{
     CELL_UNITS, FRACTION_BITS, GridFrame, LatticeMesh, LatticePoint, MAX_CELL_INDEX,
-    MAX_TRIANGLE_SPAN,
+    MAX_TRIANGLE_SPAN, cell_key, key_cell,
 };
 pub use overlap::{
     EdgeFace, TriangleCells, cells_around, edge_faces, footprint, mesh_edges, triangle_cells,

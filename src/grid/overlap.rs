@@ -11,7 +11,7 @@
 use rayon::prelude::*;
 
 use super::crossing::GridCrossing;
-use super::lattice::LatticeMesh;
+use super::lattice::{LatticeMesh, cell_key, key_cell};
 use super::predicates::{LocalSegment, cross_axes};
 use super::sparse::Crossings;
 
@@ -41,41 +41,53 @@ impl EdgeFace {
 
 /// Every undirected edge of the mesh once, sorted.
 pub fn mesh_edges(triangles: &[[u32; 3]]) -> Vec<[u32; 2]> {
-    let mut edges: Vec<[u32; 2]> = triangles
+    let mut keys: Vec<u64> = triangles
         .par_iter()
-        .flat_map_iter(|&[a, b, c]| [[a, b], [b, c], [c, a]].map(|[p, q]| [p.min(q), p.max(q)]))
+        .flat_map_iter(|&[a, b, c]| {
+            [[a, b], [b, c], [c, a]]
+                .map(|[p, q]| u64::from(p.min(q)) << 32 | u64::from(p.max(q)))
+        })
         .collect();
-    edges.par_sort_unstable();
-    edges.dedup();
-    edges
+    keys.par_sort_unstable();
+    keys.dedup();
+    keys.par_iter()
+        .map(|&k| [(k >> 32) as u32, k as u32])
+        .collect()
 }
 
 /// Every face crossing of every mesh edge, edge by edge (in [`mesh_edges`] order) and in order
 /// along each edge from its smaller vertex.
 pub fn edge_faces(mesh: &LatticeMesh) -> Vec<EdgeFace> {
     let edges = mesh_edges(mesh.triangles());
-    edges
-        .par_iter()
-        .with_min_len(256)
-        .flat_map_iter(|&edge| {
-            let [p, q] = edge.map(|v| mesh.points()[v as usize]);
-            let seg = LocalSegment::new(&p, &q);
-            let mut planes: Vec<(usize, i32)> = (0..3)
-                .flat_map(|axis| {
+    let per_block: Vec<Vec<EdgeFace>> = edges
+        .par_chunks(1024)
+        .map(|block| {
+            let mut out = Vec::new();
+            let mut planes: Vec<(usize, i32)> = Vec::new();
+            for &edge in block {
+                let [p, q] = edge.map(|v| mesh.points()[v as usize]);
+                if p.cell == q.cell {
+                    continue;
+                }
+                let seg = LocalSegment::new(&p, &q);
+                planes.clear();
+                for axis in 0..3 {
                     let (a, b) = (p.cell[axis], q.cell[axis]);
-                    (a.min(b) + 1..=a.max(b)).map(move |plane| (axis, plane))
-                })
-                .collect();
-            planes.sort_unstable_by(|&x, &y| seg.compare(x, y));
-            planes.into_iter().map(move |(axis, plane)| EdgeFace {
-                edge,
-                axis,
-                cell: seg.face(axis, plane),
-                s: seg.parameter(axis, plane),
-                upward: p.cell[axis] < q.cell[axis],
-            })
+                    planes.extend((a.min(b) + 1..=a.max(b)).map(|plane| (axis, plane)));
+                }
+                planes.sort_unstable_by(|&x, &y| seg.compare(x, y));
+                out.extend(planes.iter().map(|&(axis, plane)| EdgeFace {
+                    edge,
+                    axis,
+                    cell: seg.face(axis, plane),
+                    s: seg.parameter(axis, plane),
+                    upward: p.cell[axis] < q.cell[axis],
+                }));
+            }
+            out
         })
-        .collect()
+        .collect();
+    per_block.concat()
 }
 
 /// The cells each triangle overlaps, as sorted lists (compressed rows over triangles).
@@ -165,16 +177,19 @@ pub fn cells_around(c: &GridCrossing) -> [[i32; 3]; 4] {
 /// every face crossing (`faces`, from [`edge_faces`]) and the four cells around every grid-edge
 /// crossing. Its size follows the surface's area; it is what the grid stores per cell.
 pub fn footprint(mesh: &LatticeMesh, crossings: &Crossings, faces: &[EdgeFace]) -> Vec<[i32; 3]> {
-    let zyx = |c: [i32; 3]| [c[2], c[1], c[0]];
-    let mut cells: Vec<[i32; 3]> = mesh.points().par_iter().map(|p| zyx(p.cell)).collect();
-    cells.par_extend(faces.par_iter().flat_map_iter(|f| f.cells().map(zyx)));
-    cells.par_extend(
+    let mut keys: Vec<u64> = mesh.points().par_iter().map(|p| cell_key(p.cell)).collect();
+    keys.par_extend(
+        faces
+            .par_iter()
+            .flat_map_iter(|f| f.cells().map(cell_key)),
+    );
+    keys.par_extend(
         crossings
             .all()
             .par_iter()
-            .flat_map_iter(|c| cells_around(c).map(zyx)),
+            .flat_map_iter(|c| cells_around(c).map(cell_key)),
     );
-    cells.par_sort_unstable();
-    cells.dedup();
-    cells.into_iter().map(zyx).collect()
+    keys.par_sort_unstable();
+    keys.dedup();
+    keys.par_iter().map(|&k| key_cell(k)).collect()
 }

@@ -83,6 +83,7 @@ impl TreeTriangle {
     };
 
     /// Squared distance in cells from grid corner `corner`; the body the distance kernel shares.
+    #[inline]
     pub fn distance_squared(&self, corner: [i32; 3]) -> f32 {
         let p: [f32; 3] = std::array::from_fn(|k| (corner[k] - self.base[k]) as f32);
         point_triangle_distance_squared(p, self.a, self.b, self.c)
@@ -461,6 +462,7 @@ fn along(a: [f32; 3], d: [f32; 3], s: f32) -> [f32; 3] {
 /// and face (Ericson, Real-Time Collision Detection §5.1.5). Each division is guarded by its
 /// denominator's sign and a degenerate triangle falls through to its edges, so the result is always
 /// finite.
+#[inline]
 pub(crate) fn point_triangle_distance_squared(
     p: [f32; 3],
     a: [f32; 3],

@@ -1,21 +1,21 @@
 //! When an edge flip is allowed. The paper skips flips; the thesis (§3.2.1) shows what they need: the
 //! new faces must not turn over and the surface must not move much (bounded here by distance, see
-//! `deviation`). Flips re-sample no vertex, so they cost no coherence, and they are only tried on a
-//! bad triangle and only kept when they raise the worse quality of the pair (`geometry::quality`).
+//! `deviation`). Flips re-sample no vertex, so they cost no coherence; they are only tried on a bad
+//! element and only kept when they raise the smallest angle of the pair.
 
-use super::deviation::deviation;
-use super::geometry::{dihedral_degrees, face_normal, quality};
+use super::deviation::within;
+use super::geometry::{dihedral_degrees, face_normal, min_angle};
 use super::params::Limits;
 use super::report::Refusal;
 use crate::mesh::{HalfEdgeId, Mesh};
+use glam::Vec3;
 
-/// A flip must raise the pair's worst quality by at least this much, so rounding can never make two
-/// flips undo each other.
-const MIN_GAIN: f32 = 1e-4;
+/// A flip must raise the pair's smallest angle by at least this much (degrees), so rounding can never
+/// make two flips undo each other.
+const MIN_GAIN_DEGREES: f32 = 1e-3;
 
-/// Whether the edge of `h`, between faces `(a, b, c)` and `(b, a, d)`, may be flipped to `(c, d)`, and
-/// if so how far the flip moves the surface.
-pub(super) fn check_flip(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<f32, Refusal> {
+/// Whether the edge of `h`, between faces `(a, b, c)` and `(b, a, d)`, may be flipped to `(c, d)`.
+pub(super) fn check_flip(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<(), Refusal> {
     let t = mesh.twin(h);
     let (a, b) = (mesh.origin(h), mesh.target(h));
     let (c, d) = (mesh.origin(mesh.prev(h)), mesh.origin(mesh.prev(t)));
@@ -28,8 +28,8 @@ pub(super) fn check_flip(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<
     let [pa, pb, pc, pd] = [a, b, c, d].map(|v| mesh.position(v));
     let old = [[pa, pb, pc], [pb, pa, pd]];
     let new = [[pc, pa, pd], [pd, pb, pc]];
-    let worst = |faces: &[[glam::Vec3; 3]; 2]| super::geometry::min_angle(faces[0]).min(super::geometry::min_angle(faces[1])) + 0.0 * quality(faces[0], limits);
-    if worst(&new) < worst(&old) + MIN_GAIN {
+    let worst = |faces: &[[Vec3; 3]; 2]| min_angle(faces[0]).min(min_angle(faces[1]));
+    if worst(&new) < worst(&old) + MIN_GAIN_DEGREES {
         return Err(Refusal::NoGain);
     }
     let old_normals = old.map(face_normal);
@@ -56,5 +56,8 @@ pub(super) fn check_flip(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<
     }) {
         return Err(Refusal::SharpDihedral);
     }
-    deviation(&new, &old, limits.deviation).ok_or(Refusal::Deviation)
+    if !within(&new, &old, limits.deviation) {
+        return Err(Refusal::Deviation);
+    }
+    Ok(())
 }

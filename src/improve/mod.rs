@@ -28,7 +28,7 @@ pub use distance::{closest_point_on_triangle, point_triangle_distance};
 pub use error::ImproveError;
 pub use hausdorff::{SurfaceDistance, one_sided_hausdorff};
 pub use params::ImproveParams;
-pub use report::{ImproveReport, Problem, Refusal, Unfixed};
+pub use report::{ImproveReport, Operation, Problem, Refusal, Unfixed};
 
 use crate::mesh::Mesh;
 use params::Limits;
@@ -45,6 +45,7 @@ pub fn improve(mesh: &mut Mesh, params: &ImproveParams) -> Result<ImproveReport,
         let split = split::split_long_edges(mesh, &limits, &mut report);
         let fixed = fix::fix_bad_elements(mesh, &limits, &mut report);
         if split + fixed == 0 {
+            report.converged = true;
             break;
         }
     }
@@ -52,26 +53,23 @@ pub fn improve(mesh: &mut Mesh, params: &ImproveParams) -> Result<ImproveReport,
     Ok(report)
 }
 
-/// The bad elements left in `mesh`, each with the reason every candidate fix is refused.
+/// The bad elements left in `mesh`, each with the reasons its candidate fixes are refused.
 fn unfixed(mesh: &Mesh, limits: &Limits) -> Vec<Unfixed> {
     let mut out: Vec<Unfixed> = scan::scan(mesh, limits)
         .into_iter()
         .filter_map(|task| {
             let h = task.locate(mesh)?;
-            let refusals = fix::candidates(mesh, &task, h, limits)
+            let mut refusals: Vec<(Operation, Refusal)> = fix::candidates(mesh, &task, h, limits)
                 .into_iter()
-                .filter_map(|f| fix::check(mesh, f, limits).err())
+                .filter_map(|f| fix::check(mesh, f, limits).err().map(|r| (f.operation(), r)))
                 .collect();
-            let (problem, vertices) = match task.kind {
-                Kind::SmallAngle => (Problem::SmallAngle, task.corners.map(|c| c.1).to_vec()),
-                Kind::ShortEdge => (Problem::ShortEdge, vec![task.corners[0].1, task.corners[1].1]),
-                Kind::SharpDihedral => {
-                    (Problem::SharpDihedral, vec![task.corners[0].1, task.corners[1].1])
-                }
-            };
-            let measure = match problem {
-                Problem::ShortEdge => task.measure / (limits.min_edge * limits.max_edge).sqrt(),
-                _ => task.measure,
+            refusals.sort();
+            refusals.dedup();
+            let ids = task.corners.map(|c| c.1);
+            let (problem, vertices, measure) = match task.kind {
+                Kind::SmallAngle => (Problem::SmallAngle, ids.to_vec(), task.measure),
+                Kind::ShortEdge => (Problem::ShortEdge, ids[..2].to_vec(), task.measure / limits.target),
+                Kind::SharpDihedral => (Problem::SharpDihedral, ids[..2].to_vec(), task.measure),
             };
             Some(Unfixed {
                 problem,
@@ -87,14 +85,14 @@ fn unfixed(mesh: &Mesh, limits: &Limits) -> Vec<Unfixed> {
         (length > limits.max_edge).then(|| Unfixed {
             problem: Problem::LongEdge,
             vertices: vec![mesh.id(a), mesh.id(b)],
-            measure: length / (limits.min_edge * limits.max_edge).sqrt(),
-            refusals: vec![Refusal::Degenerate],
+            measure: length / limits.target,
+            refusals: vec![(Operation::Split, Refusal::Degenerate)],
         })
     }));
     out.sort_by(|x, y| {
-        (x.problem as u8, x.measure)
-            .partial_cmp(&(y.problem as u8, y.measure))
-            .unwrap_or(std::cmp::Ordering::Equal)
+        x.problem
+            .cmp(&y.problem)
+            .then(x.measure.total_cmp(&y.measure))
             .then_with(|| x.vertices.cmp(&y.vertices))
     });
     out

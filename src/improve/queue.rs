@@ -9,8 +9,8 @@ use std::collections::BinaryHeap;
 /// What is wrong with an element; the variant order is the processing order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub(super) enum Kind {
-    ShortEdge,
     SmallAngle,
+    ShortEdge,
     SharpDihedral,
 }
 

@@ -12,10 +12,8 @@ pub enum Refusal {
     Degenerate,
     /// A face would turn over (its normal would point against one it replaces).
     NormalFlip,
-    /// The worst triangle around the operation would get worse (smaller angle or shorter edge
-    /// relative to the limits).
-    WorseQuality,
-    /// A flip would not raise the worse quality of its two faces.
+    /// A flip would not raise the smallest angle of its two faces, or a split would not lower the
+    /// number of failing faces.
     NoGain,
     /// A new edge would be longer than the split threshold.
     LongEdge,
@@ -27,16 +25,24 @@ pub enum Refusal {
     Deviation,
 }
 
-/// What is wrong with an element improvement could not fix.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
-pub enum Problem {
-    SmallAngle,
-    ShortEdge,
-    LongEdge,
-    SharpDihedral,
+/// The kind of operation a refusal concerns.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+pub enum Operation {
+    Flip,
+    Collapse,
+    Split,
 }
 
-/// A bad element left after improvement, with the reason each fix tried on it was refused.
+/// What is wrong with an element improvement could not fix.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+pub enum Problem {
+    ShortEdge,
+    SmallAngle,
+    SharpDihedral,
+    LongEdge,
+}
+
+/// A bad element left after improvement, with the reasons its candidate fixes were refused.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Unfixed {
     pub problem: Problem,
@@ -44,7 +50,8 @@ pub struct Unfixed {
     pub vertices: Vec<u64>,
     /// The measure that fails: angle or dihedral in degrees, or length relative to the target.
     pub measure: f32,
-    pub refusals: Vec<Refusal>,
+    /// Each kind of operation tried with each reason it was refused, sorted, without repeats.
+    pub refusals: Vec<(Operation, Refusal)>,
 }
 
 /// What one improvement did.
@@ -54,9 +61,11 @@ pub struct ImproveReport {
     pub collapses: usize,
     pub flips: usize,
     pub rounds: usize,
+    /// False when `max_rounds` ran out while rounds were still changing the mesh.
+    pub converged: bool,
     /// How often each reason stopped an attempted fix, in `Refusal` order.
     pub refusals: Vec<(Refusal, usize)>,
-    /// The bad elements that remain, worst first within each problem.
+    /// The bad elements that remain, by problem, worst first.
     pub unfixed: Vec<Unfixed>,
 }
 

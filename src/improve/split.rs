@@ -4,7 +4,9 @@
 
 use super::params::Limits;
 use super::report::{ImproveReport, Refusal};
+use super::geometry::fails;
 use crate::mesh::{HalfEdgeId, Mesh};
+use glam::Vec3;
 use std::collections::BinaryHeap;
 
 /// An edge to split: longest first, then by the persistent ids of its ends.
@@ -54,10 +56,10 @@ pub(super) fn split_long_edges(mesh: &mut Mesh, limits: &Limits, report: &mut Im
     splits
 }
 
-/// Whether splitting the edge of `h` at its midpoint fixes a triangle without making short edges: a
+/// Whether splitting the edge of `h` at its midpoint fixes a triangle without moving the surface. A
 /// triangle whose longest edge is more than `edge_ratio` times its shortest, and whose short edge
 /// cannot be collapsed without moving the surface too far, is fixed by halving its longest edge. The
-/// split must lower the number of failing faces among the ones it replaces and create no edge shorter
+/// split must lower the number of failing faces among those it replaces and create no edge shorter
 /// than the collapse threshold, so it never feeds the collapse queue.
 pub(super) fn check_split(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<(), Refusal> {
     let t = mesh.twin(h);
@@ -68,17 +70,16 @@ pub(super) fn check_split(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result
     if [pa, pc, pd].iter().any(|&p| m.distance(p) < limits.min_edge) {
         return Err(Refusal::ShortEdge);
     }
-    let failing = |faces: &[[glam::Vec3; 3]]| faces.iter().filter(|&&f| fails(f, limits)).count();
+    let failing = |faces: &[[Vec3; 3]]| {
+        faces
+            .iter()
+            .filter(|&&f| fails(f, limits.min_angle, limits.edge_ratio))
+            .count()
+    };
     let old = [[pa, pb, pc], [pb, pa, pd]];
     let new = [[pa, m, pc], [m, pb, pc], [pb, m, pd], [m, pa, pd]];
     if failing(&new) >= failing(&old) {
         return Err(Refusal::NoGain);
     }
     Ok(())
-}
-
-/// The per-triangle criteria: smallest angle and longest : shortest edge.
-fn fails(p: [glam::Vec3; 3], limits: &Limits) -> bool {
-    let (shortest, longest) = super::geometry::edge_extremes(p);
-    super::geometry::min_angle(p) < limits.min_angle || longest > limits.edge_ratio * shortest
 }

@@ -7,6 +7,7 @@ use std::sync::{Arc, Weak};
 use glam::Vec3;
 
 use super::options::{QueryParams, absolute_distance};
+use super::order::SpatialOrder;
 use super::query::directions;
 use super::{Bvh, Correspondence, ProjectError, ProjectOptions};
 use crate::compute::{ComputeError, GpuContext};
@@ -64,6 +65,8 @@ impl Bvh {
 pub struct GpuQueries {
     params: wgpu::Buffer,
     chunks: Vec<Chunk>,
+    /// The queries are uploaded in spatial order (see `order.rs`) and read back in the caller's.
+    order: SpatialOrder,
 }
 
 /// One run of consecutive queries and the correspondences the kernel writes for them.
@@ -88,7 +91,9 @@ impl GpuQueries {
     ) -> Result<Self, ProjectError> {
         let params = options.params(bvh.mean_edge_length())?;
         let directions = directions(points, normals)?;
-        Self::upload(context, &params, points, Some(&directions))
+        let order = SpatialOrder::new(points);
+        let (points, directions) = (order.permute(points), order.permute(&directions));
+        Self::upload(context, &params, &points, Some(&directions), order)
     }
 
     /// Uploads the closest-point queries of `points` onto `bvh`'s target (see
@@ -100,7 +105,8 @@ impl GpuQueries {
         max_distance: f32,
     ) -> Result<Self, ProjectError> {
         let params = QueryParams::closest(absolute_distance(max_distance, bvh.mean_edge_length())?);
-        Self::upload(context, &params, points, None)
+        let order = SpatialOrder::new(points);
+        Self::upload(context, &params, &order.permute(points), None, order)
     }
 
     fn upload(
@@ -108,6 +114,7 @@ impl GpuQueries {
         params: &QueryParams,
         points: &[Vec3],
         directions: Option<&[Vec3]>,
+        order: SpatialOrder,
     ) -> Result<Self, ProjectError> {
         let chunk_len = context
             .max_binding_len::<Correspondence>()
@@ -129,6 +136,7 @@ impl GpuQueries {
         Ok(Self {
             params: context.upload("query params", std::slice::from_ref(params))?,
             chunks,
+            order,
         })
     }
 
@@ -168,12 +176,12 @@ impl GpuQueries {
         Ok(())
     }
 
-    /// The correspondences of all chunks, in query order.
+    /// The correspondences of all chunks, in the caller's query order.
     pub fn read(&self, context: &GpuContext) -> Result<Vec<Correspondence>, ComputeError> {
         let mut all = Vec::with_capacity(self.chunks.iter().map(|c| c.count).sum());
         for chunk in &self.chunks {
             all.extend(context.read_back::<Correspondence>(&chunk.correspondences, chunk.count)?);
         }
-        Ok(all)
+        Ok(self.order.restore(&all))
     }
 }

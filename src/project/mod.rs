@@ -24,6 +24,7 @@ mod error;
 mod gpu;
 mod node;
 mod options;
+mod order;
 mod point_triangle;
 mod probe;
 mod query;

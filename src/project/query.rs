@@ -7,6 +7,7 @@ use super::cpu::closest_point::closest_point_cpu;
 use super::cpu::project::project_cpu;
 use super::gpu::GpuQueries;
 use super::options::{QueryParams, absolute_distance};
+use super::order::SpatialOrder;
 use super::{Bvh, Correspondence, ProjectError, ProjectOptions};
 use crate::compute::Backend;
 
@@ -17,7 +18,8 @@ use crate::compute::Backend;
 /// from `n` is reported as [`super::Status::NormalMismatch`].
 ///
 /// Normals need not be unit (they are normalised; `t` is a distance). A point with a zero or
-/// non-finite normal, or a non-finite point, is a miss. Rays through shared edges and vertices
+/// non-finite normal, or a non-finite point, is a miss. Queries run in the spatial order of
+/// their points (see `order.rs`) and come back in the caller's order. Rays through shared edges and vertices
 /// never slip through a closed target (watertight test, Woop et al. 2013).
 pub fn project(
     backend: &Backend,
@@ -30,7 +32,14 @@ pub fn project(
         Backend::Cpu => {
             let params = options.params(bvh.mean_edge_length())?;
             let directions = directions(points, normals)?;
-            Ok(project_cpu(bvh, points, &directions, &params))
+            let order = SpatialOrder::new(points);
+            let found = project_cpu(
+                bvh,
+                &order.permute(points),
+                &order.permute(&directions),
+                &params,
+            );
+            Ok(order.restore(&found))
         }
         Backend::Gpu(context) => {
             let job = GpuQueries::project(context, bvh, points, normals, options)?;
@@ -57,7 +66,8 @@ pub fn closest_points(
                 max_distance,
                 bvh.mean_edge_length(),
             )?);
-            closest_point_cpu(bvh, points, &params)
+            let order = SpatialOrder::new(points);
+            order.restore(&closest_point_cpu(bvh, &order.permute(points), &params))
         }
         Backend::Gpu(context) => {
             let job = GpuQueries::closest_points(context, bvh, points, max_distance)?;

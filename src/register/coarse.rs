@@ -14,27 +14,31 @@ use std::time::Instant;
 
 use faer::Par;
 use faer::linalg::cholesky::llt::factor::LltError;
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 
 use super::RegisterError;
 use super::assemble::{assemble, damp};
 use super::cholesky::Cholesky;
-use super::correspond::{Correspond, targets};
+use super::correspond::{Correspond, Projector, targets};
 use super::energy::{CoarseWeights, FitTarget, energy, fit_energy, fit_pulls, gradient};
 use super::geodesic::sample;
-use super::graph::DeformationGraph;
+use super::graph::{DeformationGraph, check_indices};
 use super::model::Model;
 use super::operator::GaussNewton;
-use super::options::{CoarseOptions, LinearSolver};
+use super::options::{CoarseOptions, LinearSolver, RegisterOptions};
 use super::pattern::{Coupling, Pattern};
 use super::pcg::pcg;
 use super::report::{CoarseReport, IterationReport, StageReport, StepTimes};
 use super::surface::Surface;
+use crate::compute::Backend;
+use crate::mesh::IndexedMesh;
+use crate::project::Bvh;
 
 /// Retries with raised damping before an iteration gives up.
 const MAX_RETRIES: usize = 12;
 
-/// Damping relative to the mean diagonal of `JᵀJ` on the first retry; each further retry ×10.
+/// Damping relative to the mean diagonal of the factored matrix on the first retry; each further
+/// retry ×10.
 const FIRST_DAMPING: f64 = 1e-6;
 
 /// A rise this small relative to the energy is rounding: the stage has converged.
@@ -44,7 +48,7 @@ const ROUNDING: f64 = 1e-12;
 /// apart, or every vertex for a spacing of 0.
 fn fit_samples(surface: &Surface, spacing: f32) -> Vec<u32> {
     if spacing > 0.0 {
-        let rest: Vec<glam::Vec3> = surface.rest.iter().map(|p| p.as_vec3()).collect();
+        let rest: Vec<Vec3> = surface.rest.iter().map(|p| p.as_vec3()).collect();
         let mut samples = sample(&surface.adjacency, &rest, spacing);
         samples.sort_unstable();
         samples
@@ -53,139 +57,439 @@ fn fit_samples(surface: &Surface, spacing: f32) -> Vec<u32> {
     }
 }
 
-/// Registers `surface` onto the target seen through `correspond`; returns the deformed vertex
-/// positions (solver coordinates) and what happened.
-pub fn coarse(
-    correspond: &dyn Correspond,
-    surface: &Surface,
-    graph: &DeformationGraph,
-    options: &CoarseOptions,
-    par: Par,
-) -> Result<(Vec<DVec3>, CoarseReport), RegisterError> {
-    let setup_start = Instant::now();
-    let samples = fit_samples(surface, options.sample_spacing);
-    let all: Vec<u32> = (0..surface.rest.len() as u32).collect();
-    let model = Model::new(graph, &surface.rest, &samples, &surface.units);
-    let whole = Model::new(graph, &surface.rest, &all, &surface.units);
-    let (coupling, refactor_after) = match options.solver {
-        LinearSolver::Cholesky => (Coupling::Full, 0),
-        LinearSolver::PreconditionedCg { refactor_after } => (Coupling::Graph, refactor_after),
-    };
-    let pattern = Pattern::new(&model, coupling)?;
-    let cholesky = Cholesky::analyze(&pattern, par)?;
-    let mut report = CoarseReport {
-        nodes: model.node_count(),
-        samples: samples.len(),
-        graph_edges: model.edges.len(),
-        unknowns: model.unknowns(),
-        matrix_nonzeros: pattern.row_idx.len(),
-        factor_nonzeros: cholesky.factor_nonzeros(),
-        setup: setup_start.elapsed(),
-        converged: true,
-        ..CoarseReport::default()
-    };
-    let mut solver = Solver {
-        model: &model,
-        pattern: &pattern,
-        cholesky,
-        values: vec![0.0; pattern.row_idx.len()],
-        damped: Vec::new(),
-        lambda: 0.0,
-        stale: true,
-        refactor_after,
-        options,
-    };
-    let project = |x: &[f64]| -> Result<Vec<Option<FitTarget>>, RegisterError> {
-        let everywhere = whole.deform(x);
-        let normals = surface.faces.normals_of(&everywhere, &samples);
-        let points: Vec<DVec3> = samples.iter().map(|&v| everywhere[v as usize]).collect();
-        targets(
+/// The coarse stage of one registration, usable step by step: [`CoarseSolver::run`] is the whole
+/// schedule; [`project`](CoarseSolver::project), [`assemble`](CoarseSolver::assemble),
+/// [`factor`](CoarseSolver::factor) and [`solve`](CoarseSolver::solve) are its sub-steps, each of
+/// which can be repeated at the current state (benchmarks time them one by one).
+pub struct CoarseSolver<'a> {
+    correspond: Box<dyn Correspond + 'a>,
+    surface: Surface,
+    options: CoarseOptions,
+    samples: Vec<u32>,
+    /// Graph over the samples (the energy) and over every vertex (the output).
+    model: Model,
+    whole: Model,
+    pattern: Pattern,
+    cholesky: Cholesky,
+    refactor_after: usize,
+    weights: CoarseWeights,
+    x: Vec<f64>,
+    deformed: Vec<DVec3>,
+    current: Vec<Option<FitTarget>>,
+    fit: Vec<[[f64; 3]; 3]>,
+    rhs: Vec<f64>,
+    delta: Vec<f64>,
+    values: Vec<f64>,
+    damped: Vec<f64>,
+    lambda: f64,
+    scale: f64,
+    /// The factor does not match the current weights (new stage) or has become a poor
+    /// preconditioner.
+    stale: bool,
+    factorizations: usize,
+    retries: usize,
+    report: CoarseReport,
+}
+
+impl<'a> CoarseSolver<'a> {
+    /// Sets up the coarse stage of `source` against the target behind `bvh`, projecting on
+    /// `backend`: deformation graph, sparsity pattern and symbolic factorization.
+    pub fn new(
+        backend: &'a Backend,
+        bvh: &'a Bvh,
+        source: &IndexedMesh,
+        options: &RegisterOptions,
+    ) -> Result<Self, RegisterError> {
+        options.check()?;
+        check_indices(source, "source")?;
+        let unit = source.mean_edge_length();
+        if !(unit.is_finite() && unit > 0.0) {
+            return Err(RegisterError::NoScale { which: "source" });
+        }
+        let surface = Surface::new(&source.positions, &source.triangles, unit);
+        let graph = DeformationGraph::from_adjacency(
+            &source.positions,
+            &surface.adjacency,
+            options.graph.spacing * unit,
+            options.graph.skinning_nodes,
+        );
+        let projector = Projector {
+            backend,
+            bvh,
+            max_angle_degrees: options.max_angle_degrees,
+        };
+        Self::with(Box::new(projector), surface, &graph, &options.coarse)
+    }
+
+    /// The coarse stage of `surface` with `graph` against any correspondence source.
+    pub(crate) fn with(
+        correspond: Box<dyn Correspond + 'a>,
+        surface: Surface,
+        graph: &DeformationGraph,
+        options: &CoarseOptions,
+    ) -> Result<Self, RegisterError> {
+        let setup = Instant::now();
+        let samples = fit_samples(&surface, options.sample_spacing);
+        let all: Vec<u32> = (0..surface.rest.len() as u32).collect();
+        let model = Model::new(graph, &surface.rest, &samples, &surface.units);
+        let whole = Model::new(graph, &surface.rest, &all, &surface.units);
+        let (coupling, refactor_after) = match options.solver {
+            LinearSolver::Cholesky => (Coupling::Full, 0),
+            LinearSolver::PreconditionedCg { refactor_after } => (Coupling::Graph, refactor_after),
+        };
+        let pattern = Pattern::new(&model, coupling)?;
+        let cholesky = Cholesky::analyze(&pattern, Par::rayon(0))?;
+        let report = CoarseReport {
+            nodes: model.node_count(),
+            samples: samples.len(),
+            graph_edges: model.edges.len(),
+            unknowns: model.unknowns(),
+            matrix_nonzeros: pattern.row_idx.len(),
+            factor_nonzeros: cholesky.factor_nonzeros(),
+            setup: setup.elapsed(),
+            converged: true,
+            ..CoarseReport::default()
+        };
+        let x = model.identity();
+        let deformed = model.deform(&x);
+        let n = model.unknowns();
+        Ok(Self {
             correspond,
-            &surface.units,
+            weights: CoarseWeights {
+                fit: options.alpha_fit,
+                plane: options.plane_weight,
+                point: options.point_weight,
+                reg: options.alpha_reg_start,
+                smooth: options.smooth_weight,
+            },
+            options: *options,
+            current: vec![None; samples.len()],
+            fit: Vec::new(),
+            samples,
+            values: vec![0.0; pattern.row_idx.len()],
+            damped: Vec::new(),
+            rhs: vec![0.0; n],
+            delta: vec![0.0; n],
+            model,
+            whole,
+            pattern,
+            cholesky,
+            refactor_after,
+            x,
+            deformed,
+            lambda: 0.0,
+            scale: 1.0,
+            stale: true,
+            factorizations: 0,
+            retries: 0,
+            surface,
+            report,
+        })
+    }
+
+    pub fn node_count(&self) -> usize {
+        self.model.node_count()
+    }
+
+    pub fn unknowns(&self) -> usize {
+        self.model.unknowns()
+    }
+
+    pub(crate) fn surface(&self) -> &Surface {
+        &self.surface
+    }
+
+    /// Every vertex at the current state, in solver coordinates.
+    pub(crate) fn solver_positions(&self) -> Vec<DVec3> {
+        self.whole.deform(&self.x)
+    }
+
+    /// Every vertex at the current state.
+    pub fn positions(&self) -> Vec<Vec3> {
+        self.solver_positions()
+            .iter()
+            .map(|&p| self.surface.units.to_world(p))
+            .collect()
+    }
+
+    /// Correspondences of the samples at the current state: vertex normals of the deformed mesh,
+    /// rays cast onto the target. They replace the current ones.
+    pub fn project(&mut self) -> Result<(), RegisterError> {
+        self.current = self.fresh()?;
+        Ok(())
+    }
+
+    fn fresh(&self) -> Result<Vec<Option<FitTarget>>, RegisterError> {
+        let everywhere = self.whole.deform(&self.x);
+        let normals = self.surface.faces.normals_of(&everywhere, &self.samples);
+        let points: Vec<DVec3> = self
+            .samples
+            .iter()
+            .map(|&v| everywhere[v as usize])
+            .collect();
+        targets(
+            self.correspond.as_ref(),
+            &self.surface.units,
             &points,
             &normals,
-            options.max_distance,
+            self.options.max_distance,
         )
-    };
-    let mut x = model.identity();
-    let mut deformed = model.deform(&x);
-    let start = Instant::now();
-    let mut fresh = project(&x)?;
-    let mut pending_correspondence = start.elapsed();
-    let mut alpha_reg = options.alpha_reg_start;
-    loop {
-        let w = CoarseWeights {
-            fit: options.alpha_fit,
-            plane: options.plane_weight,
-            point: options.point_weight,
-            reg: alpha_reg,
-            smooth: options.smooth_weight,
+    }
+
+    /// `Jᵀr` and the matrix to factor (`JᵀJ`, or its graph-pattern bound) at the current state.
+    pub fn assemble(&mut self) {
+        self.assemble_gradient();
+        self.assemble_matrix();
+    }
+
+    fn assemble_gradient(&mut self) {
+        let w = &self.weights;
+        self.fit = self
+            .current
+            .iter()
+            .map(|c| c.map_or([[0.0; 3]; 3], |c| w.fit_matrix(c.normal)))
+            .collect();
+        let pulls = fit_pulls(&self.deformed, &self.current, w);
+        let g = gradient(&self.model, &self.x, &pulls, w);
+        self.rhs.iter_mut().zip(&g).for_each(|(r, g)| *r = -g);
+    }
+
+    fn assemble_matrix(&mut self) {
+        let w = self.weights;
+        assemble(
+            &self.pattern,
+            &self.model,
+            &self.x,
+            &self.fit,
+            &w,
+            &mut self.values,
+        );
+        let n = self.pattern.dimension();
+        let mean = (0..n)
+            .map(|c| self.values[self.pattern.col_ptr[c + 1] as usize - 1])
+            .sum::<f64>()
+            / n.max(1) as f64;
+        self.scale = if mean > 0.0 { mean } else { 1.0 };
+    }
+
+    /// Numeric factorization of the assembled matrix plus the current damping; a non-positive
+    /// pivot raises the damping and refactors.
+    pub fn factor(&mut self) -> Result<(), RegisterError> {
+        loop {
+            damp(&self.pattern, &self.values, self.lambda, &mut self.damped);
+            self.factorizations += 1;
+            match self.cholesky.factor(&self.pattern, &self.damped) {
+                Ok(()) => {
+                    self.stale = false;
+                    return Ok(());
+                }
+                Err(LltError::NonPositivePivot { .. }) => {
+                    if !self.raise() {
+                        return Err(RegisterError::Factorization(format!(
+                            "no positive definite system after {MAX_RETRIES} damping increases"
+                        )));
+                    }
+                }
+            }
+        }
+    }
+
+    /// The step `δ` of `(JᵀJ + λ I) δ = −Jᵀr` at the current state; returns the conjugate-gradient
+    /// iterations it took (0 when the factor is of `JᵀJ` itself).
+    pub fn solve(&mut self) -> Result<usize, RegisterError> {
+        let operator = GaussNewton {
+            model: &self.model,
+            x: &self.x,
+            fit: &self.fit,
+            weights: self.weights,
+            damping: self.lambda,
         };
-        let mut current = fresh.clone();
-        let mut e = energy(&model, &x, &deformed, &current, &w).total(&w);
-        let mut stage = StageReport {
-            alpha_reg,
-            energy_start: e,
-            iterations: Vec::new(),
-            converged: false,
+        self.delta.copy_from_slice(&self.rhs);
+        self.cholesky.solve(&mut self.delta)?;
+        let cholesky = &mut self.cholesky;
+        let mut failed = None;
+        let solve = pcg(
+            |v, out| operator.apply(v, out),
+            |r, z| {
+                z.copy_from_slice(r);
+                if let Err(e) = cholesky.solve(z) {
+                    failed = Some(e);
+                }
+            },
+            &self.rhs,
+            &mut self.delta,
+            self.options.cg_tolerance,
+            self.options.max_cg_iterations,
+        );
+        if let Some(e) = failed {
+            return Err(e);
+        }
+        if solve.iterations > self.refactor_after {
+            self.stale = true;
+        }
+        Ok(solve.iterations)
+    }
+
+    /// Raises the damping for another try; false when the retries are spent.
+    fn raise(&mut self) -> bool {
+        self.retries += 1;
+        if self.retries > MAX_RETRIES {
+            return false;
+        }
+        self.lambda = if self.lambda > 0.0 {
+            self.lambda * 10.0
+        } else {
+            self.scale * FIRST_DAMPING
         };
-        solver.stale = true;
-        while stage.iterations.len() < options.max_stage_iterations {
-            let mut times = StepTimes {
-                correspondence: std::mem::take(&mut pending_correspondence),
-                ..StepTimes::default()
+        self.stale = true;
+        true
+    }
+
+    fn total(&self) -> f64 {
+        let w = &self.weights;
+        energy(&self.model, &self.x, &self.deformed, &self.current, w).total(w)
+    }
+
+    /// The whole schedule: stages of Gauss-Newton iterations from `α_reg` start down to the floor.
+    pub fn run(&mut self) -> Result<CoarseReport, RegisterError> {
+        let t = Instant::now();
+        let mut fresh = self.fresh()?;
+        let mut pending = t.elapsed();
+        loop {
+            self.current = fresh.clone();
+            let mut e = self.total();
+            let mut stage = StageReport {
+                alpha_reg: self.weights.reg,
+                energy_start: e,
+                iterations: Vec::new(),
+                converged: false,
             };
-            let mut counts = Counts::default();
-            let step = match solver.step(&x, &deformed, &current, &w, e, &mut times, &mut counts)? {
-                Outcome::Step(step) => step,
-                Outcome::Converged => {
+            self.stale = true;
+            while stage.iterations.len() < self.options.max_stage_iterations {
+                let mut times = StepTimes {
+                    correspondence: std::mem::take(&mut pending),
+                    ..StepTimes::default()
+                };
+                self.factorizations = 0;
+                self.retries = 0;
+                let mut cg_iterations = 0;
+                let outcome = self.iterate(e, &mut times, &mut cg_iterations)?;
+                let damping = match outcome {
+                    Outcome::Accepted { damping } => damping,
+                    Outcome::Converged => {
+                        stage.converged = true;
+                        break;
+                    }
+                    Outcome::Stuck => break,
+                };
+                let t = Instant::now();
+                fresh = self.fresh()?;
+                let replaced =
+                    keep_better(&mut self.current, &fresh, &self.deformed, &self.weights);
+                times.correspondence += t.elapsed();
+                let t = Instant::now();
+                let terms = energy(
+                    &self.model,
+                    &self.x,
+                    &self.deformed,
+                    &self.current,
+                    &self.weights,
+                );
+                times.evaluation += t.elapsed();
+                let after = terms.total(&self.weights);
+                let kept = self.current.iter().filter(|c| c.is_some()).count();
+                stage.iterations.push(IterationReport {
+                    energy_before: e,
+                    energy: after,
+                    fit: terms.fit,
+                    rigid: terms.rigid,
+                    smooth: terms.smooth,
+                    kept,
+                    pruned: self.current.len() - kept,
+                    replaced,
+                    damping,
+                    retries: self.retries,
+                    factorizations: self.factorizations,
+                    cg_iterations,
+                    times,
+                });
+                self.report.times += times;
+                let relative = if e > 0.0 { (e - after) / e } else { 0.0 };
+                e = after;
+                if relative < self.options.relax_threshold {
                     stage.converged = true;
                     break;
                 }
-                Outcome::Stuck => break,
-            };
-            x = step.x;
-            deformed = step.deformed;
-            let t = Instant::now();
-            fresh = project(&x)?;
-            let replaced = keep_better(&mut current, &fresh, &deformed, &w);
-            times.correspondence += t.elapsed();
-            let t = Instant::now();
-            let terms = energy(&model, &x, &deformed, &current, &w);
-            times.evaluation += t.elapsed();
-            let after = terms.total(&w);
-            let kept = current.iter().filter(|c| c.is_some()).count();
-            stage.iterations.push(IterationReport {
-                energy_before: e,
-                energy: after,
-                fit: terms.fit,
-                rigid: terms.rigid,
-                smooth: terms.smooth,
-                kept,
-                pruned: current.len() - kept,
-                replaced,
-                damping: step.damping,
-                retries: counts.retries,
-                factorizations: counts.factorizations,
-                cg_iterations: counts.cg_iterations,
-                times,
-            });
-            report.times += times;
-            let relative = if e > 0.0 { (e - after) / e } else { 0.0 };
-            e = after;
-            if relative < options.relax_threshold {
-                stage.converged = true;
+            }
+            self.report.converged &= stage.converged;
+            self.report.stages.push(stage);
+            let floor = self.options.alpha_reg_floor;
+            if self.weights.reg <= floor * (1.0 + 1e-9) {
                 break;
             }
+            self.weights.reg = (self.weights.reg / 10.0).max(floor);
         }
-        report.converged &= stage.converged;
-        report.stages.push(stage);
-        if alpha_reg <= options.alpha_reg_floor * (1.0 + 1e-9) {
-            break;
-        }
-        alpha_reg = (alpha_reg / 10.0).max(options.alpha_reg_floor);
+        Ok(self.report.clone())
     }
-    Ok((whole.deform(&x), report))
+
+    /// One damped Gauss-Newton step from the current state (energy `e`).
+    fn iterate(
+        &mut self,
+        e: f64,
+        times: &mut StepTimes,
+        cg_iterations: &mut usize,
+    ) -> Result<Outcome, RegisterError> {
+        let t = Instant::now();
+        self.assemble_gradient();
+        times.assembly += t.elapsed();
+        loop {
+            if self.stale || self.refactor_after == 0 {
+                let t = Instant::now();
+                self.assemble_matrix();
+                times.assembly += t.elapsed();
+                let t = Instant::now();
+                self.factor()?;
+                times.factorization += t.elapsed();
+            }
+            let t = Instant::now();
+            *cg_iterations += self.solve()?;
+            times.solve += t.elapsed();
+            let t = Instant::now();
+            let trial: Vec<f64> = self.x.iter().zip(&self.delta).map(|(a, d)| a + d).collect();
+            let trial_deformed = self.model.deform(&trial);
+            let w = &self.weights;
+            let trial_e = energy(&self.model, &trial, &trial_deformed, &self.current, w).total(w);
+            times.evaluation += t.elapsed();
+            if trial_e.is_finite() && trial_e <= e {
+                let damping = self.lambda;
+                self.lambda = if self.lambda > self.scale * FIRST_DAMPING {
+                    self.lambda / 10.0
+                } else {
+                    0.0
+                };
+                self.x = trial;
+                self.deformed = trial_deformed;
+                return Ok(Outcome::Accepted { damping });
+            }
+            if trial_e.is_finite() && trial_e - e <= ROUNDING * e {
+                return Ok(Outcome::Converged);
+            }
+            if !self.raise() {
+                return Ok(Outcome::Stuck);
+            }
+        }
+    }
+}
+
+/// What one attempted iteration produced.
+enum Outcome {
+    /// A step lowered the energy; it was taken with this damping.
+    Accepted { damping: f64 },
+    /// No step lowers the energy by more than rounding: the stage has converged.
+    Converged,
+    /// Every damping tried raised the energy: the stage cannot make progress (reported, since the
+    /// stage then ends unconverged).
+    Stuck,
 }
 
 /// Replaces each vertex's correspondence by its fresh one where that fits the vertex's current
@@ -207,246 +511,4 @@ fn keep_better(
         }
     }
     replaced
-}
-
-/// What one attempted iteration produced.
-enum Outcome {
-    Step(Step),
-    /// No step lowers the energy by more than rounding: the stage has converged.
-    Converged,
-    /// Every damping tried raised the energy: the stage cannot make progress (reported, since the
-    /// stage then ends unconverged).
-    Stuck,
-}
-
-/// An accepted step.
-struct Step {
-    x: Vec<f64>,
-    deformed: Vec<DVec3>,
-    damping: f64,
-}
-
-#[derive(Default)]
-struct Counts {
-    retries: usize,
-    factorizations: usize,
-    cg_iterations: usize,
-}
-
-/// The Gauss-Newton machinery of one registration: pattern, factorization and damping state.
-struct Solver<'a> {
-    model: &'a Model,
-    pattern: &'a Pattern,
-    cholesky: Cholesky,
-    values: Vec<f64>,
-    damped: Vec<f64>,
-    lambda: f64,
-    /// The factor no longer matches the weights (new stage) or has become a poor preconditioner.
-    stale: bool,
-    refactor_after: usize,
-    options: &'a CoarseOptions,
-}
-
-impl Solver<'_> {
-    /// One damped Gauss-Newton step from `x` (energy `e`).
-    #[allow(clippy::too_many_arguments)]
-    fn step(
-        &mut self,
-        x: &[f64],
-        deformed: &[DVec3],
-        current: &[Option<FitTarget>],
-        w: &CoarseWeights,
-        e: f64,
-        times: &mut StepTimes,
-        counts: &mut Counts,
-    ) -> Result<Outcome, RegisterError> {
-        let t = Instant::now();
-        let fit: Vec<[[f64; 3]; 3]> = current
-            .iter()
-            .map(|c| c.map_or([[0.0; 3]; 3], |c| w.fit_matrix(c.normal)))
-            .collect();
-        let pulls = fit_pulls(deformed, current, w);
-        let rhs: Vec<f64> = gradient(self.model, x, &pulls, w)
-            .iter()
-            .map(|g| -g)
-            .collect();
-        times.assembly += t.elapsed();
-        let mut scale = 1.0;
-        loop {
-            if self.stale || self.refactor_after == 0 {
-                let t = Instant::now();
-                assemble(self.pattern, self.model, x, &fit, w, &mut self.values);
-                times.assembly += t.elapsed();
-                scale = self.mean_diagonal();
-                let t = Instant::now();
-                damp(self.pattern, &self.values, self.lambda, &mut self.damped);
-                let factored = self.cholesky.factor(self.pattern, &self.damped);
-                times.factorization += t.elapsed();
-                counts.factorizations += 1;
-                if let Err(LltError::NonPositivePivot { .. }) = factored {
-                    if !self.raise(scale, &mut counts.retries) {
-                        return Err(RegisterError::Factorization(format!(
-                            "no positive definite system after {MAX_RETRIES} damping increases"
-                        )));
-                    }
-                    self.stale = true;
-                    continue;
-                }
-                self.stale = false;
-            }
-            let t = Instant::now();
-            let operator = GaussNewton {
-                model: self.model,
-                x,
-                fit: &fit,
-                weights: *w,
-                damping: self.lambda,
-            };
-            let mut delta = rhs.clone();
-            self.cholesky.solve(&mut delta)?;
-            let cholesky = &mut self.cholesky;
-            let solve = pcg(
-                |v, out| operator.apply(v, out),
-                |r, z| {
-                    z.copy_from_slice(r);
-                    // The factor is valid here, so the solve cannot fail.
-                    let _ = cholesky.solve(z);
-                },
-                &rhs,
-                &mut delta,
-                self.options.cg_tolerance,
-                self.options.max_cg_iterations,
-            );
-            counts.cg_iterations += solve.iterations;
-            if solve.iterations > self.refactor_after {
-                self.stale = true;
-            }
-            times.solve += t.elapsed();
-            let t = Instant::now();
-            let trial: Vec<f64> = x.iter().zip(&delta).map(|(a, d)| a + d).collect();
-            let trial_deformed = self.model.deform(&trial);
-            let trial_e = energy(self.model, &trial, &trial_deformed, current, w).total(w);
-            times.evaluation += t.elapsed();
-            if trial_e.is_finite() && trial_e <= e {
-                let damping = self.lambda;
-                self.lambda = if self.lambda > scale * FIRST_DAMPING {
-                    self.lambda / 10.0
-                } else {
-                    0.0
-                };
-                return Ok(Outcome::Step(Step {
-                    x: trial,
-                    deformed: trial_deformed,
-                    damping,
-                }));
-            }
-            if trial_e.is_finite() && trial_e - e <= ROUNDING * e {
-                return Ok(Outcome::Converged);
-            }
-            if !self.raise(scale, &mut counts.retries) {
-                return Ok(Outcome::Stuck);
-            }
-        }
-    }
-
-    /// Mean of the diagonal of the last assembled matrix: the scale damping is measured against.
-    fn mean_diagonal(&self) -> f64 {
-        let n = self.pattern.dimension();
-        let mean = (0..n)
-            .map(|c| self.values[self.pattern.col_ptr[c + 1] as usize - 1])
-            .sum::<f64>()
-            / n.max(1) as f64;
-        if mean > 0.0 { mean } else { 1.0 }
-    }
-
-    /// Raises the damping for another try; false when the retries are spent.
-    fn raise(&mut self, scale: f64, retries: &mut usize) -> bool {
-        *retries += 1;
-        if *retries > MAX_RETRIES {
-            return false;
-        }
-        self.lambda = if self.lambda > 0.0 {
-            self.lambda * 10.0
-        } else {
-            scale * FIRST_DAMPING
-        };
-        true
-    }
-}
-
-#[cfg(test)]
-mod probe {
-    use super::*;
-    use crate::compute::Backend;
-    use crate::grid::{ScalarGrid, marching_cubes};
-    use crate::project::Bvh;
-    use crate::register::correspond::Projector;
-    use glam::Vec3;
-
-    fn bar(p: Vec3) -> f32 {
-        let mut sum = 0.0;
-        for k in 0..7 {
-            let x = -0.6 + 0.2 * k as f32;
-            sum += (-(p - Vec3::new(x, 0.0, 0.0)).length_squared() / 0.04).exp();
-            let side = if k % 2 == 0 { 0.12 } else { -0.12 };
-            sum += 0.6 * (-(p - Vec3::new(x + 0.1, side, 0.05)).length_squared() / 0.015).exp();
-        }
-        0.5 - sum
-    }
-
-    #[test]
-    #[ignore]
-    fn probe_truth_energy() {
-        let kappa = 0.4f32;
-        let forward = move |p: Vec3| {
-            let theta = kappa * p.x;
-            let (s, c) = theta.sin_cos();
-            Vec3::new(s / kappa - p.y * s, (1.0 - c) / kappa + p.y * c, p.z)
-        };
-        let spacing = 0.02;
-        let origin = Vec3::new(-0.95, -0.45, -0.4);
-        let grid = ScalarGrid::from_fn(origin, spacing, [96, 46, 42], bar).unwrap();
-        let source = marching_cubes(&grid, 0.0);
-        let mut target = source.clone();
-        for p in &mut target.positions {
-            *p = forward(*p);
-        }
-        let unit = source.mean_edge_length();
-        let surface = Surface::new(&source.positions, &source.triangles, unit);
-        let graph = DeformationGraph::from_adjacency(&source.positions, &surface.adjacency, 4.0 * unit, 4);
-        let all: Vec<u32> = (0..source.positions.len() as u32).collect();
-        let model = Model::new(&graph, &surface.rest, &all, &surface.units);
-        // node transforms of the truth: A = dB (finite differences), b = B(g) - g, in local units
-        let units = surface.units;
-        let mut x = model.identity();
-        for (i, &g) in model.nodes.iter().enumerate() {
-            let gw = units.to_world(g);
-            let h = 1e-3f32;
-            for c in 0..3 {
-                let mut e = Vec3::ZERO;
-                e[c] = h;
-                let col = (forward(gw + e) - forward(gw - e)) / (2.0 * h);
-                for k in 0..3 {
-                    x[12 * i + 3 * c + k] = f64::from(col[k]);
-                }
-            }
-            let b = units.to_local(forward(gw)) - g;
-            x[12 * i + 9] = b.x;
-            x[12 * i + 10] = b.y;
-            x[12 * i + 11] = b.z;
-        }
-        let bvh = Bvh::build(&target).unwrap();
-        let backend = Backend::Cpu;
-        let projector = Projector { backend: &backend, bvh: &bvh, max_angle_degrees: 60.0 };
-        let deformed = model.deform(&x);
-        let truth: Vec<DVec3> = source.positions.iter().map(|&p| units.to_local(forward(p))).collect();
-        let err: f64 = deformed.iter().zip(&truth).map(|(a, b)| a.distance(*b)).fold(0.0, f64::max);
-        let normals = surface.faces.normals(&deformed);
-        let found = targets(&projector, &units, &deformed, &normals, f64::INFINITY).unwrap();
-        for reg in [1000.0, 100.0, 10.0, 1.0, 0.1] {
-            let w = CoarseWeights { fit: 0.1, plane: 1.0, point: 0.1, reg, smooth: 0.1 };
-            let t = energy(&model, &x, &deformed, &found, &w);
-            println!("truth: skinning max error {err:.3} e; α_reg {reg}: fit {:.4e} rigid {:.4e} smooth {:.4e} total {:.4e}", t.fit, t.rigid, t.smooth, t.total(&w));
-        }
-    }
 }

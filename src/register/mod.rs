@@ -30,12 +30,10 @@ mod surface;
 
 use std::time::Instant;
 
-use faer::Par;
-use glam::Vec3;
-
+pub use coarse::CoarseSolver;
 pub use error::RegisterError;
 pub use graph::{DeformationGraph, GraphOptions};
-pub use options::{CoarseOptions, FineOptions, RegisterOptions};
+pub use options::{CoarseOptions, FineOptions, LinearSolver, RegisterOptions};
 pub use report::{
     CoarseReport, FineReport, FineRound, IterationReport, RegistrationReport, StageReport,
     StepTimes,
@@ -44,8 +42,7 @@ pub use report::{
 use crate::compute::Backend;
 use crate::mesh::{IndexedMesh, Mesh, VertexId};
 use crate::project::{Bvh, ProjectError};
-use correspond::{Correspond, Projector};
-use surface::Surface;
+use correspond::Projector;
 
 /// Deforms `mesh` onto `target`: coarse graph registration, then fine alignment. Projection runs on
 /// `backend`; everything else on the CPU. Vertex ids and connectivity are untouched; only positions
@@ -60,8 +57,8 @@ pub fn register(
     target: &IndexedMesh,
     options: &RegisterOptions,
 ) -> Result<RegistrationReport, RegisterError> {
-    options.check()?;
     let total = Instant::now();
+    options.check()?;
     let slots: Vec<VertexId> = mesh.vertices().collect();
     let source = mesh.to_indexed();
     let t = Instant::now();
@@ -76,60 +73,37 @@ pub fn register(
     if !(bvh.mean_edge_length().is_finite() && bvh.mean_edge_length() > 0.0) {
         return Err(RegisterError::NoScale { which: "target" });
     }
+    let t = Instant::now();
+    let mut coarse = CoarseSolver::new(backend, &bvh, &source, options)?;
+    let setup_time = t.elapsed();
+    let t = Instant::now();
+    let coarse_report = coarse.run()?;
+    let coarse_time = t.elapsed();
+    let t = Instant::now();
     let projector = Projector {
         backend,
         bvh: &bvh,
         max_angle_degrees: options.max_angle_degrees,
     };
-    let (positions, mut report) = register_with(&projector, &source, options)?;
-    for (&slot, &p) in slots.iter().zip(&positions) {
-        mesh.set_position(slot, p);
-    }
-    report.bvh_time = bvh_time;
-    report.total_time = total.elapsed();
-    Ok(report)
-}
-
-/// Both stages against any correspondence source; returns the new positions of `source`'s
-/// vertices.
-fn register_with(
-    correspond: &dyn Correspond,
-    source: &IndexedMesh,
-    options: &RegisterOptions,
-) -> Result<(Vec<Vec3>, RegistrationReport), RegisterError> {
-    graph::check_indices(source, "source")?;
-    let unit = source.mean_edge_length();
-    if !(unit.is_finite() && unit > 0.0) {
-        return Err(RegisterError::NoScale { which: "source" });
-    }
-    let surface = Surface::new(&source.positions, &source.triangles, unit);
-    let t = Instant::now();
-    let graph = DeformationGraph::from_adjacency(
-        &source.positions,
-        &surface.adjacency,
-        options.graph.spacing * unit,
-        options.graph.skinning_nodes,
-    );
-    let graph_time = t.elapsed();
-    let t = Instant::now();
-    let par = Par::rayon(0);
-    let (coarse, coarse_report) =
-        coarse::coarse(correspond, &surface, &graph, &options.coarse, par)?;
-    let coarse_time = t.elapsed();
-    let t = Instant::now();
-    let (fine, fine_report) = fine::fine(correspond, &surface, &coarse, &options.fine)?;
+    let surface = coarse.surface();
+    let (fine, fine_report) = fine::fine(
+        &projector,
+        surface,
+        &coarse.solver_positions(),
+        &options.fine,
+    )?;
     let fine_time = t.elapsed();
-    let positions = fine.iter().map(|&p| surface.units.to_world(p)).collect();
-    Ok((
-        positions,
-        RegistrationReport {
-            vertices: source.positions.len(),
-            coarse: coarse_report,
-            fine: fine_report,
-            graph_time,
-            coarse_time,
-            fine_time,
-            ..RegistrationReport::default()
-        },
-    ))
+    for (&slot, &p) in slots.iter().zip(&fine) {
+        mesh.set_position(slot, surface.units.to_world(p));
+    }
+    Ok(RegistrationReport {
+        vertices: source.positions.len(),
+        coarse: coarse_report,
+        fine: fine_report,
+        bvh_time,
+        setup_time,
+        coarse_time,
+        fine_time,
+        total_time: total.elapsed(),
+    })
 }

@@ -121,8 +121,10 @@ pub struct RegistrationReport {
     pub vertices: usize,
     pub coarse: CoarseReport,
     pub fine: FineReport,
+    /// Target BVH.
     pub bvh_time: Duration,
-    pub graph_time: Duration,
+    /// Deformation graph, sparsity pattern and symbolic factorization.
+    pub setup_time: Duration,
     pub coarse_time: Duration,
     pub fine_time: Duration,
     pub total_time: Duration,

@@ -20,11 +20,12 @@
 
 use rayon::prelude::*;
 
+use super::face_arcs::face_arcs;
 use super::field::Field;
-use super::keys::{Cell, Corner, GridEdge, GridFace, cell_corner, corner_cells};
+use super::keys::{Cell, Corner, GridEdge, GridFace, corner_cells};
 use super::mesh_grid::MeshGrid;
 use super::region::pairs_follow_rule;
-use super::face_arcs::face_arcs;
+use crate::grid::{GridCrossing, GridLine};
 use crate::mesh::IndexedMesh;
 
 /// How strictly one attempt classifies.
@@ -59,64 +60,42 @@ fn offset(c: Corner, o: [i32; 3]) -> Corner {
 }
 
 /// Seeds of the complex region for one attempt.
-pub(crate) fn seeds(
-    grid: &MeshGrid,
-    field: &Field,
-    surface_cells: &[Cell],
-    strictness: &Strictness,
-) -> Vec<Cell> {
+pub(crate) fn seeds(grid: &MeshGrid, field: &Field, strictness: &Strictness) -> Vec<Cell> {
     let near = ball(strictness.depth);
     let depth = strictness.depth;
-    let lines = grid.crossings.index().len();
-    let per_line: Vec<(Vec<Cell>, Vec<Corner>)> = (0..lines)
+    let per_line: Vec<(Vec<Cell>, Vec<Corner>)> = paired_lines(grid, field)
         .into_par_iter()
         .with_min_len(64)
-        .map(|l| {
-            let mut seeds = Vec::new();
-            let mut corners = Vec::new();
-            let line = grid.crossings.of_line(l);
-            let mut winding = 0;
-            for group in line.chunk_by(|x, y| x.along() == y.along()) {
-                let edge = GridEdge::new(group[0].corner, group[0].axis());
-                let mut sequence = Vec::with_capacity(group.len() + 1);
-                sequence.push(winding);
-                for c in group {
-                    winding += c.sign();
-                    sequence.push(winding);
-                }
-                corners.extend(edge.ends());
-                if sequence.iter().any(|w| !(0..=1).contains(w)) {
-                    seeds.extend(edge.cells());
-                } else if group.len() >= 2 && deep_edge(field, &edge, &sequence, depth, &near) {
-                    seeds.extend(edge.cells());
-                }
-            }
-            (seeds, corners)
+        .map(|(line, m, t)| {
+            let crossings = m.map_or(&[][..], |l| grid.crossings.of_line(l));
+            let flips = t.map_or(&[][..], |l| field.signs().of_line(l));
+            line_differences(field, line, crossings, flips, depth, &near)
         })
         .collect();
     let mut seeds: Vec<Cell> = Vec::new();
-    let mut corners: Vec<Corner> = Vec::new();
+    let mut mismatched: Vec<Corner> = Vec::new();
     for (s, c) in per_line {
         seeds.extend(s);
-        corners.extend(c);
+        mismatched.extend(c);
     }
-    corners.extend(
-        surface_cells
-            .iter()
-            .flat_map(|&cell| (0..8).map(move |c| cell_corner(cell, c))),
+    mismatched.par_sort_unstable();
+    mismatched.dedup();
+    seeds.par_extend(
+        mismatched
+            .par_iter()
+            .filter(|&&c| {
+                deep_corner(
+                    grid,
+                    field,
+                    c,
+                    !field.inside(c),
+                    field.inside(c),
+                    depth,
+                    &near,
+                )
+            })
+            .flat_map_iter(|&c| corner_cells(c)),
     );
-    corners.par_sort_unstable();
-    corners.dedup();
-    let mismatched: Vec<Cell> = corners
-        .par_iter()
-        .with_min_len(256)
-        .filter(|&&c| {
-            let (m, theta) = (grid.inside(c), field.inside(c));
-            m != theta && deep_corner(grid, field, c, m, theta, depth, &near)
-        })
-        .flat_map_iter(|&c| corner_cells(c))
-        .collect();
-    seeds.extend(mismatched);
     seeds.extend(sub_cell_components(grid));
     if strictness.faces {
         seeds.extend(complex_faces(grid, field));
@@ -127,6 +106,81 @@ pub(crate) fn seeds(
         seeds = dilate(&seeds, strictness.dilate);
     }
     seeds
+}
+
+/// The grid lines on which the mesh has crossings or Θ's sign flips, with their numbers among the
+/// mesh's crossing lines and among Θ's sign lines.
+fn paired_lines(grid: &MeshGrid, field: &Field) -> Vec<(GridLine, Option<usize>, Option<usize>)> {
+    let (m, t) = (grid.crossings.index().lines(), field.signs().lines());
+    let (mut i, mut j) = (0, 0);
+    let mut out = Vec::with_capacity(m.len().max(t.len()));
+    while i < m.len() || j < t.len() {
+        let order = match (m.get(i), t.get(j)) {
+            (Some(a), Some(b)) => a.cmp(b),
+            (Some(_), None) => std::cmp::Ordering::Less,
+            _ => std::cmp::Ordering::Greater,
+        };
+        out.push(match order {
+            std::cmp::Ordering::Less => (m[i], Some(i), None),
+            std::cmp::Ordering::Greater => (t[j], None, Some(j)),
+            std::cmp::Ordering::Equal => (m[i], Some(i), Some(j)),
+        });
+        i += usize::from(order != std::cmp::Ordering::Greater);
+        j += usize::from(order != std::cmp::Ordering::Less);
+    }
+    out
+}
+
+/// The differences along one grid line: seeds from its crossed edges (self-intersection, deep
+/// multiple crossings) and the corners where the mesh and Θ disagree, among the ends of the edges
+/// the mesh crosses or Θ flips on. Both are read walking the line once: the mesh's winding is the
+/// sum of the crossings before a corner, Θ's sign the parity of the flips up to it.
+fn line_differences(
+    field: &Field,
+    line: GridLine,
+    crossings: &[GridCrossing],
+    flips: &[i32],
+    depth: u32,
+    near: &[[i32; 3]],
+) -> (Vec<Cell>, Vec<Corner>) {
+    let mut seeds = Vec::new();
+    let mut at: Vec<i32> = Vec::with_capacity(2 * crossings.len() + 2 * flips.len());
+    let mut winding = 0;
+    for group in crossings.chunk_by(|x, y| x.along() == y.along()) {
+        let edge = GridEdge::new(group[0].corner, group[0].axis());
+        let mut sequence = Vec::with_capacity(group.len() + 1);
+        sequence.push(winding);
+        for c in group {
+            winding += c.sign();
+            sequence.push(winding);
+        }
+        at.extend([group[0].along(), group[0].along() + 1]);
+        if sequence.iter().any(|w| !(0..=1).contains(w))
+            || (group.len() >= 2 && deep_edge(field, &edge, &sequence, depth, near))
+        {
+            seeds.extend(edge.cells());
+        }
+    }
+    for &f in flips {
+        at.extend([f - 1, f]);
+    }
+    at.sort_unstable();
+    at.dedup();
+    let (mut c, mut f, mut winding) = (0, 0, 0);
+    let mut mismatched = Vec::new();
+    for k in at {
+        while c < crossings.len() && crossings[c].along() < k {
+            winding += crossings[c].sign();
+            c += 1;
+        }
+        while f < flips.len() && flips[f] <= k {
+            f += 1;
+        }
+        if (winding >= 1) != (f % 2 == 1) {
+            mismatched.push(line.corner(k));
+        }
+    }
+    (seeds, mismatched)
 }
 
 /// A corner mismatch is shallow when, nearby, Θ holds the mesh's material and the mesh holds Θ's.
@@ -153,7 +207,13 @@ fn deep_corner(
 
 /// A multiply crossed edge is shallow when every material between its crossings appears in Θ near
 /// the edge. `windings` lists the winding before, between and after the crossings.
-fn deep_edge(field: &Field, edge: &GridEdge, windings: &[i32], depth: u32, near: &[[i32; 3]]) -> bool {
+fn deep_edge(
+    field: &Field,
+    edge: &GridEdge,
+    windings: &[i32],
+    depth: u32,
+    near: &[[i32; 3]],
+) -> bool {
     if depth == 0 {
         return true;
     }
@@ -165,13 +225,13 @@ fn deep_edge(field: &Field, edge: &GridEdge, windings: &[i32], depth: u32, near:
     };
     let needs_inside = interior.contains(&1);
     let needs_outside = interior.contains(&0);
-    !((!needs_inside || present(true)) && (!needs_outside || present(false)))
+    (needs_inside && !present(true)) || (needs_outside && !present(false))
 }
 
 /// Cells of the vertices of every mesh component that crosses no grid edge.
 fn sub_cell_components(grid: &MeshGrid) -> Vec<Cell> {
     let mesh: &IndexedMesh = grid.mesh;
-    let n = mesh.triangles.len();
+    let n = mesh.positions.len();
     let mut parent: Vec<u32> = (0..n as u32).collect();
     fn find(parent: &mut [u32], mut x: u32) -> u32 {
         while parent[x as usize] != x {
@@ -180,30 +240,31 @@ fn sub_cell_components(grid: &MeshGrid) -> Vec<Cell> {
         }
         x
     }
-    for [a, b] in &grid.edges.tris {
-        let (ra, rb) = (find(&mut parent, *a), find(&mut parent, *b));
-        if ra != rb {
-            parent[ra.max(rb) as usize] = ra.min(rb);
+    for t in &mesh.triangles {
+        for k in 1..3 {
+            let (a, b) = (find(&mut parent, t[0]), find(&mut parent, t[k]));
+            if a != b {
+                parent[a.max(b) as usize] = a.min(b);
+            }
         }
     }
     let mut crossed = vec![false; n];
     for c in grid.crossings.all() {
-        let root = find(&mut parent, c.triangle);
+        let root = find(&mut parent, mesh.triangles[c.triangle as usize][0]);
         crossed[root as usize] = true;
     }
-    let mut cells = Vec::new();
-    for t in 0..n as u32 {
-        let root = find(&mut parent, t);
-        if !crossed[root as usize] {
-            cells.extend(mesh.triangles[t as usize].map(|v| grid.vertex_cell(v)));
-        }
-    }
+    let mut cells: Vec<Cell> = (0..n as u32)
+        .filter(|&v| !crossed[find(&mut parent, v) as usize])
+        .map(|v| grid.vertex_cell(v))
+        .collect();
+    cells.sort_unstable();
+    cells.dedup();
     cells
 }
 
 /// Both cells of every face the mesh meets that could not be a front face.
 fn complex_faces(grid: &MeshGrid, field: &Field) -> Vec<Cell> {
-    let mut faces: Vec<GridFace> = grid.pierced_faces().copied().collect();
+    let mut faces: Vec<GridFace> = grid.pierced_faces().collect();
     faces.extend(
         grid.crossings
             .all()

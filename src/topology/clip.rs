@@ -72,9 +72,13 @@ fn above(grid: &MeshGrid, p: &Point, axis: usize, plane: i32) -> Result<bool, In
         } => {
             let a = usize::from(a);
             if a == axis {
-                if i == plane { Err(Inconsistent) } else { Ok(i > plane) }
+                if i == plane {
+                    Err(Inconsistent)
+                } else {
+                    Ok(i > plane)
+                }
             } else {
-                Ok(grid.segments[edge as usize].above((a, i), (axis, plane)))
+                Ok(grid.segment(edge).above((a, i), (axis, plane)))
             }
         }
         Point::Crossing { edge, .. } => {
@@ -100,7 +104,7 @@ fn intersection(
 ) -> Result<Point, Inconsistent> {
     match line {
         Line::Side(k) => Ok(Point::Pierce {
-            edge: grid.edges.of_triangle[t as usize][usize::from(k)],
+            edge: grid.edges().of_triangle[t as usize][usize::from(k)],
             axis: axis as u8,
             plane,
         }),
@@ -183,7 +187,7 @@ pub(crate) fn piece_cell(
         Point::Vertex(v) => Ok(grid.vertex_cell(v)),
         Point::Pierce { edge, axis, plane } => {
             let axis = usize::from(axis);
-            let mut cell = grid.segments[edge as usize].face(axis, plane);
+            let mut cell = grid.segment(edge).face(axis, plane);
             if !side_of(axis, plane)? {
                 cell[axis] -= 1;
             }

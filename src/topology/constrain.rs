@@ -22,8 +22,8 @@ use super::cut::cut;
 use super::face_arcs::Arc;
 use super::field::Field;
 use super::fill::fill;
-use super::isosurface::{isosurface, signature};
-use super::keys::{Cell, GridFace, cell_face, cell_neighbour};
+use super::isosurface::{isosurface, place_isosurface, signature};
+use super::keys::{Cell, GridEdge, GridFace, cell_face, cell_neighbour};
 use super::mesh_grid::MeshGrid;
 use super::points::Point;
 use super::record::record;
@@ -48,26 +48,34 @@ pub fn constrain_topology(
     theta: &Field,
     options: &TopologyOptions,
 ) -> Result<TopologyReport, TopologyError> {
+    let (report, rebuilt) = resample(mesh, theta, options)?;
+    if let Some(mut rebuilt) = rebuilt {
+        rebuilt.next_id = mesh.next_id() + (report.cut + report.patch) as u64;
+        rebuilt.journal = mesh.journal.take();
+        *mesh = rebuilt;
+    }
+    Ok(report)
+}
+
+/// The attempts of [`constrain_topology`]; the new mesh, unless nothing changes.
+fn resample(
+    mesh: &Mesh,
+    theta: &Field,
+    options: &TopologyOptions,
+) -> Result<(TopologyReport, Option<Mesh>), TopologyError> {
     let start = Instant::now();
     let input = mesh.to_indexed();
-    let tt = Instant::now();
-    let surface = theta.surface_cells();
-    let t_surface = tt.elapsed();
-    let (iso, _) = isosurface(theta, &surface);
+    let surface = theta.surface();
+    let (iso, iso_edges) = isosurface(theta, &surface);
     let target = signature(&iso);
-    let t_iso = tt.elapsed();
-    let grid = MeshGrid::new(&input, *theta.frame())?;
-    let t_grid = tt.elapsed();
-    let _ = signature(&input);
-    let t_sig = tt.elapsed();
-    if std::env::var("TOPO_TIMES").is_ok() { eprintln!("TIMES to_indexed {:?} surface {t_surface:?} iso {t_iso:?} grid {t_grid:?} sig {t_sig:?} cells {} ", start.elapsed() - tt.elapsed(), surface.len()); }
+    let grid = MeshGrid::new(&input, mesh, *theta.frame())?;
     let mut checks = Checks::new(&grid, theta);
     let mut report = TopologyReport::default();
     let mut extra: Vec<Cell> = Vec::new();
 
     for (attempt, strictness) in ladder(options).iter().enumerate() {
         let clock = Instant::now();
-        let mut cells = seeds(&grid, theta, &surface, strictness);
+        let mut cells = seeds(&grid, theta, strictness);
         cells.extend_from_slice(&extra);
         cells.sort_unstable();
         cells.dedup();
@@ -80,11 +88,11 @@ pub fn constrain_topology(
                 report.kept = input.positions.len();
                 report.euler = target;
                 report.total = start.elapsed();
-                return Ok(report);
+                return Ok((report, None));
             }
-            report
-                .abandoned
-                .push(String::from("topology differs from Θ's with no deep difference"));
+            report.abandoned.push(String::from(
+                "topology differs from Θ's with no deep difference",
+            ));
             continue;
         }
         let clock = Instant::now();
@@ -97,40 +105,52 @@ pub fn constrain_topology(
                     .push(format!("could not cut or fill near {:?}", points.first()));
                 extra.extend(points.iter().flat_map(|p| point_cells(&grid, p)));
             }
-            Ok((built, splits)) => match verify(&built.mesh, &target) {
-                Ok(()) => {
-                    let recorded = record(&grid, &built, &splits, mesh.next_id());
-                    report.resampling = Resampling::Local { attempt };
-                    commit(mesh, built.mesh, recorded, &mut report)?;
-                    report.euler = target;
-                    report.total = start.elapsed();
-                    return Ok(report);
+            Ok((built, splits)) => {
+                let recorded = record(&grid, &built, &splits, mesh.next_id());
+                match verify(&built.mesh, &recorded, &target) {
+                    Ok(rebuilt) => {
+                        report.resampling = Resampling::Local { attempt };
+                        summarize(recorded, &mut report);
+                        report.euler = target;
+                        report.total = start.elapsed();
+                        return Ok((report, Some(rebuilt)));
+                    }
+                    Err(Failure::Topology) => {
+                        report
+                            .abandoned
+                            .push(String::from("topology differs from Θ's after re-sampling"));
+                    }
+                    Err(Failure::Element(vertices)) => {
+                        report.abandoned.push(format!(
+                            "invalid element at {:?}",
+                            vertices
+                                .iter()
+                                .filter_map(|&v| built.points.get(v as usize))
+                                .collect::<Vec<_>>()
+                        ));
+                        extra.extend(
+                            vertices
+                                .iter()
+                                .filter_map(|&v| built.points.get(v as usize))
+                                .flat_map(|p| point_cells(&grid, p)),
+                        );
+                    }
                 }
-                Err(Failure::Topology) => {
-                    report
-                        .abandoned
-                        .push(String::from("topology differs from Θ's after re-sampling"));
-                }
-                Err(Failure::Element(vertices)) => {
-                    report.abandoned.push(format!(
-                        "invalid element at {:?}",
-                        vertices
-                            .iter()
-                            .filter_map(|&v| built.points.get(v as usize))
-                            .collect::<Vec<_>>()
-                    ));
-                    extra.extend(
-                        vertices
-                            .iter()
-                            .filter_map(|&v| built.points.get(v as usize))
-                            .flat_map(|p| point_cells(&grid, p)),
-                    );
-                }
-            },
+            }
         }
         extra = widen(&extra);
     }
-    replace_whole(mesh, &grid, theta, &surface, iso, &target, start, report)
+    replace_whole(
+        mesh,
+        &grid,
+        theta,
+        surface.len(),
+        iso,
+        iso_edges,
+        &target,
+        start,
+        report,
+    )
 }
 
 /// The attempts, from the configured depth to the strictest classification with wide margins.
@@ -174,15 +194,14 @@ fn attempt_region(
                 continue;
             }
             let face = cell_face(cell, f);
-            let arcs = checks.face(face).ok_or_else(|| vec![Point::Centre { cell, index: 0 }])?;
+            let arcs = checks
+                .face(face)
+                .ok_or_else(|| vec![Point::Centre { cell, index: 0 }])?;
             fronts.push((face, arcs));
         }
     }
-    let kept = cut(grid, region, &fronts).map_err(|t| {
-        grid.mesh.triangles[t as usize]
-            .map(Point::Vertex)
-            .to_vec()
-    })?;
+    let kept = cut(grid, region, &fronts)
+        .map_err(|t| grid.mesh.triangles[t as usize].map(Point::Vertex).to_vec())?;
     let filled = fill(grid, theta, region, &cells, checks)
         .map_err(|cell| vec![Point::Centre { cell, index: 0 }])?;
     let built = build(grid, theta, &kept, &filled)?;
@@ -196,31 +215,34 @@ enum Failure {
     Topology,
 }
 
-fn verify(mesh: &IndexedMesh, target: &[i64]) -> Result<(), Failure> {
+/// The half-edge mesh of a result that is closed, manifold, oriented and non-degenerate (checked
+/// by `Mesh::from_indexed`, once) and has Θ's topology.
+fn verify(
+    mesh: &IndexedMesh,
+    recorded: &super::record::Recorded,
+    target: &[i64],
+) -> Result<Mesh, Failure> {
+    if signature(mesh) != target {
+        return Err(Failure::Topology);
+    }
     if mesh.triangles.is_empty() {
-        return if target.is_empty() { Ok(()) } else { Err(Failure::Topology) };
+        return Ok(empty_mesh(&recorded.attributes));
     }
-    match mesh.validate() {
-        Ok(()) => {}
-        Err(e) => {
-            let vertices = match e {
-                MeshError::DegenerateFace { triangle } => mesh.triangles[triangle].to_vec(),
-                MeshError::OpenBoundary { a, b, .. }
-                | MeshError::NonManifoldEdge { a, b, .. }
-                | MeshError::InconsistentOrientation { a, b, .. } => vec![a, b],
-                MeshError::NonManifoldVertex { vertex, .. } => vec![vertex],
-                MeshError::IsolatedVertex { vertex } => vec![vertex as u32],
-                MeshError::NonFiniteCoordinate { vertex, .. } => vec![vertex as u32],
-                _ => Vec::new(),
-            };
-            return Err(Failure::Element(vertices));
-        }
-    }
-    if signature(mesh) == target {
-        Ok(())
-    } else {
-        Err(Failure::Topology)
-    }
+    let mut output = mesh.clone();
+    output.ids = Some(recorded.ids.clone());
+    output.attributes = recorded.attributes.clone();
+    Mesh::from_indexed(&output).map_err(|e| {
+        Failure::Element(match e {
+            MeshError::DegenerateFace { triangle } => mesh.triangles[triangle].to_vec(),
+            MeshError::OpenBoundary { a, b, .. }
+            | MeshError::NonManifoldEdge { a, b, .. }
+            | MeshError::InconsistentOrientation { a, b, .. } => vec![a, b],
+            MeshError::NonManifoldVertex { vertex, .. } => vec![vertex],
+            MeshError::IsolatedVertex { vertex } => vec![vertex as u32],
+            MeshError::NonFiniteCoordinate { vertex, .. } => vec![vertex as u32],
+            _ => Vec::new(),
+        })
+    })
 }
 
 /// Cells a point lies in or on.
@@ -228,7 +250,7 @@ fn point_cells(grid: &MeshGrid, p: &Point) -> Vec<Cell> {
     match *p {
         Point::Vertex(v) => vec![grid.vertex_cell(v)],
         Point::Pierce { edge, axis, plane } => {
-            let cell = grid.segments[edge as usize].face(usize::from(axis), plane);
+            let cell = grid.segment(edge).face(usize::from(axis), plane);
             GridFace::new(cell, usize::from(axis)).cells().to_vec()
         }
         Point::Crossing { edge, .. } | Point::Level(edge) => edge.cells().to_vec(),
@@ -251,43 +273,24 @@ fn widen(cells: &[Cell]) -> Vec<Cell> {
     out
 }
 
-/// Replaces `mesh` by `output`, with the recorded ids and attributes, keeping its id counter
-/// moving forward and its mutation journal.
-fn commit(
-    mesh: &mut Mesh,
-    mut output: IndexedMesh,
-    recorded: super::record::Recorded,
-    report: &mut TopologyReport,
-) -> Result<(), TopologyError> {
-    let created = (recorded.cut + recorded.patch) as u64;
-    report.kept = output.positions.len() - recorded.cut - recorded.patch;
+/// What the recorded surgery did, into the report.
+fn summarize(recorded: super::record::Recorded, report: &mut TopologyReport) {
+    report.kept = recorded.ids.len() - recorded.cut - recorded.patch;
     report.deleted = recorded.deleted;
     report.cut = recorded.cut;
     report.patch = recorded.patch;
     report.events = recorded.events;
-    output.ids = Some(recorded.ids);
-    output.attributes = recorded.attributes;
-    let mut rebuilt = if output.triangles.is_empty() {
-        empty_like(mesh)
-    } else {
-        Mesh::from_indexed(&output)?
-    };
-    rebuilt.next_id = mesh.next_id() + created;
-    rebuilt.journal = mesh.journal.take();
-    *mesh = rebuilt;
-    Ok(())
 }
 
-/// A mesh with no vertices and the same attribute channels.
-fn empty_like(mesh: &Mesh) -> Mesh {
+/// A mesh with no vertices and the given attribute channels (emptied).
+fn empty_mesh(attributes: &[Attribute]) -> Mesh {
     Mesh {
         positions: Vec::new(),
         ids: Vec::new(),
         vertex_half_edge: Vec::new(),
         origin: Vec::new(),
         twin: Vec::new(),
-        attributes: mesh
-            .attributes()
+        attributes: attributes
             .iter()
             .map(|a| Attribute {
                 name: a.name.clone(),
@@ -297,7 +300,7 @@ fn empty_like(mesh: &Mesh) -> Mesh {
             .collect(),
         free_vertices: Vec::new(),
         free_faces: Vec::new(),
-        next_id: mesh.next_id(),
+        next_id: 0,
         journal: None,
     }
 }
@@ -305,34 +308,33 @@ fn empty_like(mesh: &Mesh) -> Mesh {
 /// The last resort: every input vertex is removed and Θ's isosurface takes the mesh's place.
 #[allow(clippy::too_many_arguments)]
 fn replace_whole(
-    mesh: &mut Mesh,
+    mesh: &Mesh,
     grid: &MeshGrid,
     theta: &Field,
-    surface: &[Cell],
-    iso: IndexedMesh,
+    cells: usize,
+    mut iso: IndexedMesh,
+    edges: Vec<GridEdge>,
     target: &[i64],
     start: Instant,
     mut report: TopologyReport,
-) -> Result<TopologyReport, TopologyError> {
+) -> Result<(TopologyReport, Option<Mesh>), TopologyError> {
     let clock = Instant::now();
-    let (_, edges) = isosurface(theta, surface);
-    if let Err(Failure::Element(_) | Failure::Topology) = verify(&iso, target) {
-        return Err(TopologyError::Unresolved {
-            attempts: ladder(&TopologyOptions::default()).len() + 1,
-            reason: report.abandoned.join("; "),
-        });
-    }
+    place_isosurface(theta, &mut iso, &edges);
     let built = Built {
         points: edges.into_iter().map(Point::Level).collect(),
         mesh: iso,
         parameters: Default::default(),
     };
     let recorded = record(grid, &built, &Default::default(), mesh.next_id());
+    let rebuilt = verify(&built.mesh, &recorded, target).map_err(|_| TopologyError::Unresolved {
+        attempts: report.abandoned.len() + 1,
+        reason: report.abandoned.join("; "),
+    })?;
     report.resampling = Resampling::Whole;
-    report.region_cells = surface.len();
-    commit(mesh, built.mesh, recorded, &mut report)?;
+    report.region_cells = cells;
+    summarize(recorded, &mut report);
     report.euler = target.to_vec();
     report.rebuild += clock.elapsed();
     report.total = start.elapsed();
-    Ok(report)
+    Ok((report, Some(rebuilt)))
 }

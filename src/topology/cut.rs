@@ -38,6 +38,9 @@ pub(crate) struct Cut {
     pub splits: FxHashMap<u32, Vec<(u8, i32)>>,
 }
 
+/// What is kept of one triangle: the triangle itself, or polygons of it.
+type Kept = (Option<u32>, Vec<Polygon>);
+
 /// The cut for `region`, given its front faces and their arcs. Fails with the triangle whose split
 /// contradicts the rasterizer's crossings.
 pub(crate) fn cut(
@@ -68,8 +71,8 @@ pub(crate) fn cut(
     }
     let mut split: Vec<(u32, u8, i32)> = Vec::new();
     for (&t, ps) in &by_triangle {
-        for e in grid.edges.of_triangle[t as usize] {
-            let seg = &grid.segments[e as usize];
+        for e in grid.edges().of_triangle[t as usize] {
+            let seg = &grid.segment(e);
             split.extend(
                 ps.iter()
                     .filter(|&&(a, i)| seg.crosses(usize::from(a), i))
@@ -91,7 +94,7 @@ pub(crate) fn cut(
         splits.insert(e, ordered);
     }
     let triangles = grid.mesh.triangles.len() as u32;
-    let results: Vec<Result<(Option<u32>, Vec<Polygon>), u32>> = (0..triangles)
+    let results: Vec<Result<Kept, u32>> = (0..triangles)
         .into_par_iter()
         .with_min_len(256)
         .map(|t| match by_triangle.get(&t) {
@@ -118,12 +121,12 @@ fn keep_or_remove(
     region: &FxHashSet<Cell>,
     splits: &FxHashMap<u32, Vec<(u8, i32)>>,
     t: u32,
-) -> Result<(Option<u32>, Vec<Polygon>), u32> {
+) -> Result<Kept, u32> {
     let tri = grid.mesh.triangles[t as usize];
     if region.contains(&grid.vertex_cell(tri[0])) {
         return Ok((None, Vec::new()));
     }
-    let edges = grid.edges.of_triangle[t as usize];
+    let edges = grid.edges().of_triangle[t as usize];
     if edges.iter().all(|e| !splits.contains_key(e)) {
         return Ok((Some(t), Vec::new()));
     }
@@ -148,7 +151,11 @@ fn split_triangle(
     for piece in pieces {
         let cell = piece_cell(grid, &piece, planes).map_err(|_| t)?;
         if !region.contains(&cell) {
-            kept.push(polygon(grid, t, with_side_points(grid, splits, t, &piece).ok_or(t)?));
+            kept.push(polygon(
+                grid,
+                t,
+                with_side_points(grid, splits, t, &piece).ok_or(t)?,
+            ));
         }
     }
     Ok(kept)
@@ -167,7 +174,7 @@ fn with_side_points(
         let (from, to) = (piece.points[i], piece.points[(i + 1) % n]);
         points.push(from);
         if let Line::Side(k) = piece.lines[i] {
-            let e = grid.edges.of_triangle[t as usize][usize::from(k)];
+            let e = grid.edges().of_triangle[t as usize][usize::from(k)];
             points.extend(side_points(grid, splits, e, &from, &to)?);
         }
     }
@@ -185,7 +192,7 @@ fn side_points(
     let Some(list) = splits.get(&e) else {
         return Some(Vec::new());
     };
-    let [v0, v1] = grid.edges.verts[e as usize];
+    let [v0, v1] = grid.edges().verts[e as usize];
     let position = |p: &Point| -> Option<i64> {
         match *p {
             Point::Vertex(v) if v == v0 => Some(-1),
@@ -215,7 +222,7 @@ fn side_points(
 
 fn polygon(grid: &MeshGrid, t: u32, points: Vec<Point>) -> Polygon {
     let tri = grid.mesh.triangles[t as usize];
-    let edges = grid.edges.of_triangle[t as usize];
+    let edges = grid.edges().of_triangle[t as usize];
     let lines = points
         .iter()
         .map(|p| match *p {

@@ -14,9 +14,10 @@ use crate::grid::{
 };
 use crate::mesh::IndexedMesh;
 
-/// Half-width of the band `Φ` stores, in cells: every corner of a cell the surface meets, and the
-/// neighbours the deep test looks at, get a true distance.
-pub const PHI_HALF_WIDTH: f32 = 2.0;
+/// Half-width of the band `Φ` stores, in cells: both ends of every grid edge the surface crosses
+/// get a true distance, which is all the crossings' positions need; farther corners need a sign
+/// only.
+pub const PHI_HALF_WIDTH: f32 = 1.0;
 
 impl Field {
     /// `Φ(mesh)` on the grid `frame` (see the module docs), rasterized, swept and measured on

@@ -18,8 +18,6 @@ pub enum TopologyError {
     Mesh(#[from] MeshError),
     #[error(transparent)]
     Project(#[from] ProjectError),
-    #[error("mesh edge {a}-{b} borders {count} triangles; the tracked mesh must be closed and manifold")]
-    NotManifold { a: u32, b: u32, count: usize },
     #[error("a sampled field of {dims:?} corners is too large")]
     FieldTooLarge { dims: [usize; 3] },
     #[error("no valid surface after {attempts} attempts: {reason}")]

@@ -39,13 +39,13 @@ pub(crate) fn face_arcs(grid: &MeshGrid, face: &GridFace) -> Option<Vec<Arc>> {
         }
     }
     let crossings = ends.len();
-    for &e in grid.pierced(face) {
+    for e in grid.pierced(face) {
         let point = Point::Pierce {
             edge: e,
             axis: face.axis,
             plane: face.plane(),
         };
-        for t in grid.edges.tris[e as usize] {
+        for t in grid.edges().tris[e as usize] {
             ends.push((t, point));
         }
     }
@@ -84,8 +84,7 @@ pub(crate) fn face_arcs(grid: &MeshGrid, face: &GridFace) -> Option<Vec<Arc>> {
         };
         let mut at = start;
         loop {
-            let next = (0..segments.len()).find(|&s| !used[s] && segments[s].1.contains(&at));
-            let Some(s) = next else { return None };
+            let s = (0..segments.len()).find(|&s| !used[s] && segments[s].1.contains(&at))?;
             used[s] = true;
             let (t, [p, q]) = segments[s];
             at = if p == at { q } else { p };

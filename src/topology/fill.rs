@@ -13,11 +13,11 @@
 
 use rustc_hash::FxHashSet;
 
+use super::field::Field;
 use super::keys::{Cell, cell_corner, cell_edge, cell_face, cell_neighbour};
 use super::mesh_grid::MeshGrid;
 use super::points::Point;
 use super::region::Checks;
-use super::field::Field;
 use crate::grid::cases::cell_case;
 use crate::grid::cube::{FACE_CORNERS, FACE_EDGES, face_segments};
 

@@ -127,7 +127,7 @@ pub(crate) fn cell_face(cell: Cell, f: usize) -> GridFace {
 
 /// The cell across face `f` (0..6) of `cell`.
 pub(crate) fn cell_neighbour(cell: Cell, f: usize) -> Cell {
-    step(cell, f / 2, if f % 2 == 0 { -1 } else { 1 })
+    step(cell, f / 2, if f.is_multiple_of(2) { -1 } else { 1 })
 }
 
 /// The eight cells sharing `corner`.
@@ -158,11 +158,11 @@ mod tests {
                 assert!(f.cells().iter().all(|c| edge.cells().contains(c)));
             }
         }
-        for f in 0..6 {
+        for (f, edges) in FACE_EDGES.iter().enumerate() {
             let face = cell_face(cell, f);
             assert!(face.cells().contains(&cell));
             assert!(face.cells().contains(&cell_neighbour(cell, f)));
-            let mut mine: Vec<GridEdge> = FACE_EDGES[f].iter().map(|&e| cell_edge(cell, e)).collect();
+            let mut mine: Vec<GridEdge> = edges.iter().map(|&e| cell_edge(cell, e)).collect();
             let mut theirs = face.edges().to_vec();
             mine.sort();
             theirs.sort();

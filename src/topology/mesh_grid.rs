@@ -3,16 +3,16 @@
 //! of each triangle, and where each mesh edge pierces the grid's planes, in order along the edge.
 
 use rayon::prelude::*;
-use rustc_hash::FxHashMap;
+use std::sync::OnceLock;
 
 use super::TopologyError;
 use super::keys::{Cell, Corner, GridEdge, GridFace};
 use super::segment::Segment;
 use crate::compute::Backend;
 use crate::grid::{Crossings, GridCrossing, GridFrame, LatticeMesh, Windings, rasterize, sweep};
-use crate::mesh::IndexedMesh;
+use crate::mesh::{FaceId, HalfEdgeId, IndexedMesh, Mesh};
 
-/// Undirected edges of a closed manifold mesh: each joins `verts[e]` (smaller index first) and
+/// Undirected edges of the mesh: each joins `verts[e]` (smaller index first) and
 /// borders the two triangles `tris[e]`; side `k` of triangle `t` (from corner `k` to `k + 1`) is
 /// edge `of_triangle[t][k]`.
 #[derive(Debug, Clone, Default)]
@@ -23,39 +23,39 @@ pub(crate) struct EdgeTable {
 }
 
 impl EdgeTable {
-    fn new(mesh: &IndexedMesh) -> Result<Self, TopologyError> {
-        let mut sides: Vec<(u32, u32, u32, u8)> = mesh
-            .triangles
-            .iter()
-            .enumerate()
-            .flat_map(|(t, tri)| {
-                (0..3).map(move |k| {
-                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
-                    (a.min(b), a.max(b), t as u32, k as u8)
-                })
-            })
-            .collect();
-        sides.par_sort_unstable();
-        let mut table = EdgeTable {
-            verts: Vec::with_capacity(sides.len() / 2),
-            tris: Vec::with_capacity(sides.len() / 2),
-            of_triangle: vec![[0; 3]; mesh.triangles.len()],
-        };
-        for pair in sides.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
-            let [s0, s1] = pair else {
-                return Err(TopologyError::NotManifold {
-                    a: pair[0].0,
-                    b: pair[0].1,
-                    count: pair.len(),
-                });
-            };
-            let e = table.verts.len() as u32;
-            table.verts.push([s0.0, s0.1]);
-            table.tris.push([s0.2, s1.2]);
-            table.of_triangle[s0.2 as usize][usize::from(s0.3)] = e;
-            table.of_triangle[s1.2 as usize][usize::from(s1.3)] = e;
+    /// The table of `mesh`, which is `half.to_indexed()`: triangle `t` is the `t`-th live face of
+    /// `half` and its side `k` that face's half-edge `k`, so each edge is found through its twin,
+    /// without sorting.
+    fn new(mesh: &IndexedMesh, half: &Mesh) -> Self {
+        let faces: Vec<FaceId> = half.faces().collect();
+        let slots = faces.last().map_or(0, |f| f.0 as usize + 1);
+        let mut triangle_of = vec![u32::MAX; slots];
+        for (t, f) in faces.iter().enumerate() {
+            triangle_of[f.0 as usize] = t as u32;
         }
-        Ok(table)
+        let n = mesh.triangles.len();
+        let mut table = EdgeTable {
+            verts: Vec::with_capacity(3 * n / 2),
+            tris: Vec::with_capacity(3 * n / 2),
+            of_triangle: vec![[u32::MAX; 3]; n],
+        };
+        for (t, f) in faces.iter().enumerate() {
+            for k in 0..3 {
+                if table.of_triangle[t][k] != u32::MAX {
+                    continue;
+                }
+                let twin = half.twin(HalfEdgeId(3 * f.0 + k as u32));
+                let other = triangle_of[twin.0 as usize / 3];
+                let e = table.verts.len() as u32;
+                let tri = mesh.triangles[t];
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                table.verts.push([a.min(b), a.max(b)]);
+                table.tris.push([t as u32, other]);
+                table.of_triangle[t][k] = e;
+                table.of_triangle[other as usize][twin.0 as usize % 3] = e;
+            }
+        }
+        table
     }
 }
 
@@ -94,28 +94,52 @@ impl<T> Rows<T> {
     }
 }
 
-/// The tracked mesh rasterized on the topology grid.
+impl Rows<u32> {
+    /// Row `keys[i]` lists `i`, for `rows` rows (a counting sort).
+    fn by_key(keys: impl Iterator<Item = u32> + Clone, rows: usize) -> Self {
+        let mut starts = vec![0u32; rows + 1];
+        for k in keys.clone() {
+            starts[k as usize + 1] += 1;
+        }
+        for r in 0..rows {
+            starts[r + 1] += starts[r];
+        }
+        let mut fill = starts.clone();
+        let mut items = vec![0u32; starts[rows] as usize];
+        for (i, k) in keys.enumerate() {
+            items[fill[k as usize] as usize] = i as u32;
+            fill[k as usize] += 1;
+        }
+        Self { starts, items }
+    }
+}
+
+/// The tracked mesh rasterized on the topology grid. The tables the cut needs are built on first
+/// use: a call that finds nothing to re-sample never pays for them.
 pub(crate) struct MeshGrid<'a> {
     pub mesh: &'a IndexedMesh,
+    half: &'a Mesh,
     pub lattice: LatticeMesh,
     pub crossings: Crossings,
     pub windings: Windings,
-    pub edges: EdgeTable,
-    pub segments: Vec<Segment>,
+    tables: OnceLock<Tables>,
+}
+
+/// What the cut reads besides the crossings.
+struct Tables {
+    edges: EdgeTable,
+    segments: Vec<Segment>,
     /// Indices into `crossings.all()` of each triangle's crossings.
     by_triangle: Rows<u32>,
     /// The planes each edge pierces, in order from its first vertex.
     pierces: Rows<Pierce>,
-    /// The edges piercing each face, in edge order.
-    pierced: FxHashMap<GridFace, Vec<u32>>,
+    /// `(face, edge)` for every edge piercing a face, sorted.
+    pierced: Vec<(GridFace, u32)>,
 }
 
-impl<'a> MeshGrid<'a> {
-    pub fn new(mesh: &'a IndexedMesh, frame: GridFrame) -> Result<Self, TopologyError> {
-        let lattice = LatticeMesh::new(frame, mesh)?;
-        let crossings = rasterize(&Backend::Cpu, &lattice)?;
-        let windings = sweep(&Backend::Cpu, &crossings)?;
-        let edges = EdgeTable::new(mesh)?;
+impl Tables {
+    fn new(mesh: &IndexedMesh, half: &Mesh, lattice: &LatticeMesh, crossings: &Crossings) -> Self {
+        let edges = EdgeTable::new(mesh, half);
         let points = lattice.points();
         let segments: Vec<Segment> = edges
             .verts
@@ -143,30 +167,59 @@ impl<'a> MeshGrid<'a> {
                 row
             })
             .collect();
-        let mut pierced: FxHashMap<GridFace, Vec<u32>> = FxHashMap::default();
-        for (e, row) in rows.iter().enumerate() {
-            for p in row {
-                pierced
-                    .entry(GridFace::new(p.face, usize::from(p.axis)))
-                    .or_default()
-                    .push(e as u32);
-            }
+        let pierces = Rows::from_rows(rows);
+        let mut pierced: Vec<(GridFace, u32)> = (0..edges.verts.len())
+            .into_par_iter()
+            .flat_map_iter(|e| {
+                pierces
+                    .row(e)
+                    .iter()
+                    .map(move |p| (GridFace::new(p.face, usize::from(p.axis)), e as u32))
+            })
+            .collect();
+        pierced.par_sort_unstable();
+        Self {
+            edges,
+            segments,
+            by_triangle: Rows::by_key(
+                crossings.all().iter().map(|c| c.triangle),
+                mesh.triangles.len(),
+            ),
+            pierces,
+            pierced,
         }
-        let mut per_triangle = vec![Vec::new(); mesh.triangles.len()];
-        for (i, c) in crossings.all().iter().enumerate() {
-            per_triangle[c.triangle as usize].push(i as u32);
-        }
+    }
+}
+
+impl<'a> MeshGrid<'a> {
+    /// The mesh `half` (whose indexed form is `mesh`) on the grid `frame`.
+    pub fn new(mesh: &'a IndexedMesh, half: &'a Mesh, frame: GridFrame) -> Result<Self, TopologyError> {
+        let lattice = LatticeMesh::new(frame, mesh)?;
+        let crossings = rasterize(&Backend::Cpu, &lattice)?;
+        let windings = sweep(&Backend::Cpu, &crossings)?;
         Ok(Self {
             mesh,
+            half,
             lattice,
             crossings,
             windings,
-            edges,
-            segments,
-            by_triangle: Rows::from_rows(per_triangle),
-            pierces: Rows::from_rows(rows),
-            pierced,
+            tables: OnceLock::new(),
         })
+    }
+
+    fn tables(&self) -> &Tables {
+        self.tables
+            .get_or_init(|| Tables::new(self.mesh, self.half, &self.lattice, &self.crossings))
+    }
+
+    /// The mesh's edges.
+    pub fn edges(&self) -> &EdgeTable {
+        &self.tables().edges
+    }
+
+    /// Mesh edge `e` in lattice units.
+    pub fn segment(&self, e: u32) -> &Segment {
+        &self.tables().segments[e as usize]
     }
 
     pub fn frame(&self) -> &GridFrame {
@@ -180,7 +233,8 @@ impl<'a> MeshGrid<'a> {
 
     /// Crossings of triangle `t` with grid edges.
     pub fn triangle_crossings(&self, t: u32) -> impl Iterator<Item = &GridCrossing> + '_ {
-        self.by_triangle
+        self.tables()
+            .by_triangle
             .row(t as usize)
             .iter()
             .map(|&i| &self.crossings.all()[i as usize])
@@ -188,7 +242,12 @@ impl<'a> MeshGrid<'a> {
 
     /// The grid edge where triangle `t` crosses the grid line along `axis` through the planes
     /// `(other, at)` and `(third, at')`; `None` when the rasterizer found no such crossing.
-    pub fn triangle_line_crossing(&self, t: u32, axis: usize, line: [(usize, i32); 2]) -> Option<GridEdge> {
+    pub fn triangle_line_crossing(
+        &self,
+        t: u32,
+        axis: usize,
+        line: [(usize, i32); 2],
+    ) -> Option<GridEdge> {
         self.triangle_crossings(t)
             .find(|c| c.axis() == axis && line.iter().all(|&(a, at)| c.corner[a] == at))
             .map(|c| GridEdge::new(c.corner, axis))
@@ -196,17 +255,24 @@ impl<'a> MeshGrid<'a> {
 
     /// The planes mesh edge `e` pierces, in order from its first vertex.
     pub fn pierces(&self, e: u32) -> &[Pierce] {
-        self.pierces.row(e as usize)
+        self.tables().pierces.row(e as usize)
     }
 
     /// Mesh edges piercing `face`.
-    pub fn pierced(&self, face: &GridFace) -> &[u32] {
-        self.pierced.get(face).map_or(&[], |v| v.as_slice())
+    pub fn pierced(&self, face: &GridFace) -> impl Iterator<Item = u32> + '_ {
+        let all = &self.tables().pierced;
+        let lo = all.partition_point(|(f, _)| f < face);
+        let hi = lo + all[lo..].partition_point(|(f, _)| f == face);
+        all[lo..hi].iter().map(|&(_, e)| e)
     }
 
-    /// Every face some mesh edge pierces.
-    pub fn pierced_faces(&self) -> impl Iterator<Item = &GridFace> + '_ {
-        self.pierced.keys()
+    /// Every face some mesh edge pierces, in order, each once.
+    pub fn pierced_faces(&self) -> impl Iterator<Item = GridFace> + '_ {
+        let all = &self.tables().pierced;
+        all.iter()
+            .enumerate()
+            .filter(|&(i, (f, _))| i == 0 || all[i - 1].0 != *f)
+            .map(|(_, (f, _))| *f)
     }
 
     /// Winding number of a corner from the sweep along `axis`.

@@ -34,8 +34,8 @@ mod segment;
 mod triangulate;
 
 pub use constrain::constrain_topology;
-pub use error::TopologyError;
 pub use distance::PHI_HALF_WIDTH;
+pub use error::TopologyError;
 pub use field::Field;
 pub use options::TopologyOptions;
 pub use report::{Resampling, TopologyReport};

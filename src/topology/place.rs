@@ -43,7 +43,7 @@ pub(crate) fn pierce_parameters(
 ) -> FxHashMap<(u32, u8, i32), f64> {
     let mut out = FxHashMap::default();
     for (&e, list) in splits {
-        let seg = &grid.segments[e as usize];
+        let seg = &grid.segment(e);
         let n = list.len();
         let gap = END_GAP.min((1.0 - 2.0 * END_GAP) / (n as f64 + 1.0));
         let mut s: Vec<f64> = list
@@ -86,7 +86,8 @@ pub(crate) fn position(
         Point::Vertex(v) => Some(positions[v as usize].as_dvec3()),
         Point::Pierce { edge, axis, plane } => {
             let s = *parameters.get(&(edge, axis, plane))?;
-            let [a, b] = grid.edges.verts[edge as usize].map(|v| positions[v as usize].as_dvec3());
+            let [a, b] =
+                grid.edges().verts[edge as usize].map(|v| positions[v as usize].as_dvec3());
             Some(a + (b - a) * s)
         }
         Point::Crossing { triangle, edge } => {
@@ -114,8 +115,16 @@ pub(crate) fn position(
 pub(crate) fn centre(field: &Field, cell: Cell, around: &[DVec3]) -> DVec3 {
     let frame = field.frame();
     let base = DVec3::from_array(cell.map(f64::from));
-    let mean = around.iter().fold(DVec3::ZERO, |s, &p| s + to_grid(frame, p)) / around.len() as f64;
-    let clamp = |g: DVec3| g.clamp(DVec3::splat(CENTRE_MARGIN), DVec3::splat(1.0 - CENTRE_MARGIN));
+    let mean = around
+        .iter()
+        .fold(DVec3::ZERO, |s, &p| s + to_grid(frame, p))
+        / around.len() as f64;
+    let clamp = |g: DVec3| {
+        g.clamp(
+            DVec3::splat(CENTRE_MARGIN),
+            DVec3::splat(1.0 - CENTRE_MARGIN),
+        )
+    };
     let values = field.cell_values(cell);
     let mut local = clamp(mean - base);
     for _ in 0..CENTRE_STEPS {

@@ -85,8 +85,12 @@ pub(crate) fn record(
         let terms: Vec<(u32, f32)> = match *p {
             Point::Vertex(v) => vec![(v, 1.0)],
             Point::Pierce { edge, axis, plane } => {
-                let s = built.parameters.get(&(edge, axis, plane)).copied().unwrap_or(0.5) as f32;
-                let [a, b] = grid.edges.verts[edge as usize];
+                let s = built
+                    .parameters
+                    .get(&(edge, axis, plane))
+                    .copied()
+                    .unwrap_or(0.5) as f32;
+                let [a, b] = grid.edges().verts[edge as usize];
                 events.push(Event::split_edge(
                     input_ids[a as usize],
                     input_ids[b as usize],
@@ -132,7 +136,7 @@ pub(crate) fn record(
         .filter(|&v| output_of[v as usize] == u32::MAX)
         .collect();
     let mut around: Vec<Vec<Near>> = vec![Vec::new(); n_in];
-    for (e, &[v0, v1]) in grid.edges.verts.iter().enumerate() {
+    for (e, &[v0, v1]) in grid.edges().verts.iter().enumerate() {
         for (d, x, forward) in [(v0, v1, true), (v1, v0, false)] {
             if output_of[d as usize] != u32::MAX {
                 continue;
@@ -180,7 +184,10 @@ pub(crate) fn record(
         });
     }
     for (d, terms) in order.iter().zip(&rules).rev() {
-        events.push(Event::patch_deleted(input_ids[*d as usize], rule_ids(terms)));
+        events.push(Event::patch_deleted(
+            input_ids[*d as usize],
+            rule_ids(terms),
+        ));
     }
 
     // New fill vertices: neighbours along the result's edges.
@@ -306,7 +313,10 @@ fn barycentric([a, b, c]: [Vec3; 3], p: Vec3) -> [f32; 3] {
     let (d20, d21) = (v2.dot(v0), v2.dot(v1));
     let denom = d00 * d11 - d01 * d01;
     let (v, w) = if denom > 0.0 {
-        ((d11 * d20 - d01 * d21) / denom, (d00 * d21 - d01 * d20) / denom)
+        (
+            (d11 * d20 - d01 * d21) / denom,
+            (d00 * d21 - d01 * d20) / denom,
+        )
     } else {
         (1.0 / 3.0, 1.0 / 3.0)
     };

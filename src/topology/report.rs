@@ -49,6 +49,10 @@ impl TopologyReport {
     /// Fraction of the input's vertices that were removed.
     pub fn replaced_fraction(&self) -> f64 {
         let input = self.kept + self.deleted;
-        if input == 0 { 0.0 } else { self.deleted as f64 / input as f64 }
+        if input == 0 {
+            0.0
+        } else {
+            self.deleted as f64 / input as f64
+        }
     }
 }

@@ -165,7 +165,10 @@ mod tests {
             assert!(seg.above((1, 1), (0, 1)));
         }
         assert_eq!(Segment::new(&p, &q).compare((0, 1), (1, 1)), Ordering::Less);
-        assert_eq!(Segment::new(&q, &p).compare((0, 1), (1, 1)), Ordering::Greater);
+        assert_eq!(
+            Segment::new(&q, &p).compare((0, 1), (1, 1)),
+            Ordering::Greater
+        );
     }
 
     #[test]

@@ -253,7 +253,12 @@ pub fn level_distance(theta: &Field, p: Vec3) -> f64 {
     let frame = theta.frame();
     let g = (p - frame.origin()) / frame.spacing();
     let cell = [g.x.floor() as i32, g.y.floor() as i32, g.z.floor() as i32];
-    let local = [g.x - cell[0] as f32, g.y - cell[1] as f32, g.z - cell[2] as f32].map(f64::from);
+    let local = [
+        g.x - cell[0] as f32,
+        g.y - cell[1] as f32,
+        g.z - cell[2] as f32,
+    ]
+    .map(f64::from);
     let mut value = 0.0;
     let mut gradient = [0.0f64; 3];
     for c in 0..8usize {
@@ -263,7 +268,8 @@ pub fn level_distance(theta: &Field, p: Vec3) -> f64 {
             cell[1] + o[1] as i32,
             cell[2] + o[2] as i32,
         ]));
-        let w: [f64; 3] = std::array::from_fn(|a| if o[a] == 1 { local[a] } else { 1.0 - local[a] });
+        let w: [f64; 3] =
+            std::array::from_fn(|a| if o[a] == 1 { local[a] } else { 1.0 - local[a] });
         let s: [f64; 3] = std::array::from_fn(|a| if o[a] == 1 { 1.0 } else { -1.0 });
         value += v * w[0] * w[1] * w[2];
         gradient[0] += v * s[0] * w[1] * w[2];
@@ -300,7 +306,8 @@ pub fn check(case: &Case) -> Result<Outcome, String> {
     let out = mesh.to_indexed();
     if !out.triangles.is_empty() {
         out.validate().map_err(|e| format!("output invalid: {e}"))?;
-        mesh.validate().map_err(|e| format!("half-edge mesh invalid: {e}"))?;
+        mesh.validate()
+            .map_err(|e| format!("half-edge mesh invalid: {e}"))?;
     }
     let want = euler_list(&reference(&case.theta, input));
     let got = euler_list(&out);
@@ -308,15 +315,21 @@ pub fn check(case: &Case) -> Result<Outcome, String> {
         return Err(format!("topology {got:?}, Θ's isosurface has {want:?}"));
     }
     if report.euler != want {
-        return Err(format!("report says {:?}, Θ's isosurface has {want:?}", report.euler));
+        return Err(format!(
+            "report says {:?}, Θ's isosurface has {want:?}",
+            report.euler
+        ));
     }
     let ids = out.ids.as_ref().ok_or("no ids")?;
     let input_ids: Vec<u64> = input
         .ids
         .clone()
         .unwrap_or_else(|| (0..input.positions.len() as u64).collect());
-    let index: std::collections::HashMap<u64, usize> =
-        input_ids.iter().enumerate().map(|(i, &id)| (id, i)).collect();
+    let index: std::collections::HashMap<u64, usize> = input_ids
+        .iter()
+        .enumerate()
+        .map(|(i, &id)| (id, i))
+        .collect();
     for (i, &id) in ids.iter().enumerate() {
         if id < next_id {
             let Some(&v) = index.get(&id) else {
@@ -341,24 +354,28 @@ pub fn check(case: &Case) -> Result<Outcome, String> {
     let mut values = VertexValues::from_parts(1, &input_ids, &ones).map_err(|e| e.to_string())?;
     forward(&report.events, &mut values).map_err(|e| format!("forward: {e}"))?;
     for &id in ids {
-        if let Some(v) = values.get(id) {
-            if (v[0] - 1.0).abs() > 1e-4 {
-                return Err(format!("forward constant became {} at {id}", v[0]));
-            }
+        if let Some(v) = values.get(id)
+            && (v[0] - 1.0).abs() > 1e-4
+        {
+            return Err(format!("forward constant became {} at {id}", v[0]));
         }
     }
     let out_ones = vec![1.0f32; ids.len()];
     let mut values = VertexValues::from_parts(1, ids, &out_ones).map_err(|e| e.to_string())?;
     backward(&report.events, &mut values).map_err(|e| format!("backward: {e}"))?;
     for &id in &input_ids {
-        if let Some(v) = values.get(id) {
-            if (v[0] - 1.0).abs() > 1e-4 {
-                return Err(format!("backward constant became {} at {id}", v[0]));
-            }
+        if let Some(v) = values.get(id)
+            && (v[0] - 1.0).abs() > 1e-4
+        {
+            return Err(format!("backward constant became {} at {id}", v[0]));
         }
     }
     let attribute = &out.attributes[0];
-    if attribute.values.iter().any(|&v| (v - 1.0).abs() > 1e-4 && v != 0.0) {
+    if attribute
+        .values
+        .iter()
+        .any(|&v| (v - 1.0).abs() > 1e-4 && v != 0.0)
+    {
         return Err("carried attribute is not constant".into());
     }
     let created: Vec<u64> = report

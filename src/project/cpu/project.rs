@@ -66,6 +66,7 @@ pub(in crate::project) struct LineHit {
 ///
 /// Nodes are visited nearest first; a node's key is the least `|t|` at which the line is inside its
 /// box, and nodes whose key exceeds the best `|t|` so far are skipped.
+#[inline(never)]
 pub(in crate::project) fn nearest_hit(
     bvh: &Bvh,
     origin: Vec3,
@@ -84,10 +85,8 @@ pub(in crate::project) fn nearest_hit(
     let mut sp = 0usize;
     let mut node = nodes[0];
     loop {
-        NODES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         if node.is_leaf() {
             for slot in node.index..node.index + node.count {
-                TRIS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                 let tri = &triangles[slot as usize];
                 let Some(hit) = shear.intersect(tri) else {
                     continue;
