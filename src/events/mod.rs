@@ -3,8 +3,8 @@
 //! through it (§4.6). Events come from the mesh's mutation journal, so no caller can forget to record.
 
 mod error;
-pub mod file;
 mod event;
+pub mod file;
 mod list;
 mod propagate;
 mod rule;

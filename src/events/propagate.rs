@@ -48,9 +48,10 @@ fn evaluate(
         .map(|rule| {
             let mut sum = vec![0.0f32; k];
             for &(source, weight) in &rule.terms {
-                let value = values
-                    .get(source)
-                    .ok_or(EventError::MissingVertex { event: index, id: source })?;
+                let value = values.get(source).ok_or(EventError::MissingVertex {
+                    event: index,
+                    id: source,
+                })?;
                 for (s, &v) in sum.iter_mut().zip(value) {
                     *s += weight * v;
                 }

@@ -132,7 +132,10 @@ fn transpose(rows: &Rows) -> Rows {
             [k[1], k[0]]
         })
         .collect();
-    let lists = order.iter().map(|&r| rows.of(r as usize).to_vec()).collect();
+    let lists = order
+        .iter()
+        .map(|&r| rows.of(r as usize).to_vec())
+        .collect();
     Rows::from_lists(keys, lists)
 }
 
@@ -160,7 +163,9 @@ mod tests {
         let mut cells: Vec<[i32; 3]> = Vec::new();
         let mut x = 12345u64;
         for _ in 0..300 {
-            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             let r = |s: u32| ((x >> s) % 23) as i32 - 11;
             cells.push([r(10), r(20), r(30)]);
         }

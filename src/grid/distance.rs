@@ -41,7 +41,10 @@ impl Nearest {
         wgsl: &SharedWgsl::DISTANCE,
         size: size_of::<Self>(),
         members: &[
-            ("distance_squared", core::mem::offset_of!(Self, distance_squared)),
+            (
+                "distance_squared",
+                core::mem::offset_of!(Self, distance_squared),
+            ),
             ("slot", core::mem::offset_of!(Self, slot)),
         ],
     };
@@ -128,7 +131,9 @@ pub fn signed_distance(
             job.read(context)?
         }
     };
-    Ok(sign_and_keep(mesh, &tree, &rows, &nearest, windings, half_width))
+    Ok(sign_and_keep(
+        mesh, &tree, &rows, &nearest, windings, half_width,
+    ))
 }
 
 /// Corners per chunk: a chunk's triangles are gathered once for all its corners.
@@ -197,7 +202,8 @@ fn max(a: f32, b: f32) -> f32 {
 /// Allowance for rounding in the plane lower bound, in cells: the bound only prunes, so making it
 /// smaller can cost time but never the nearest triangle.
 const PLANE_SLACK: f32 = 1e-4;
-pub static STATS: [std::sync::atomic::AtomicUsize; 4] = [const { std::sync::atomic::AtomicUsize::new(0) }; 4];
+pub static STATS: [std::sync::atomic::AtomicUsize; 4] =
+    [const { std::sync::atomic::AtomicUsize::new(0) }; 4];
 
 /// What a chunk keeps of each gathered triangle: the parts of its lower bound that do not depend
 /// on the corner's x (structure of arrays, reused across chunks).
@@ -273,7 +279,8 @@ fn chunk_nearest(
         g.max_x.push(b.max[0]);
         let t = &tree.triangles()[slot as usize];
         let p: [f32; 3] = std::array::from_fn(|k| (chunk.first[k] - t.base[k]) as f32);
-        g.plane.push(t.normal[0] * p[0] + t.normal[1] * p[1] + t.normal[2] * p[2] - t.offset);
+        g.plane
+            .push(t.normal[0] * p[0] + t.normal[1] * p[1] + t.normal[2] * p[2] - t.offset);
         g.plane_step.push(t.normal[0]);
     }
     g.bounds.resize(g.slots.len(), 0.0);
@@ -296,7 +303,11 @@ fn chunk_nearest(
             *lower = max(across + gap * gap, to_plane * to_plane);
         }
         // The previous corner's nearest triangle, or else the one with the least bound.
-        let first = match if std::env::var_os("ARGMIN").is_some() { None } else { hint } {
+        let first = match if std::env::var_os("ARGMIN").is_some() {
+            None
+        } else {
+            hint
+        } {
             Some(k) => k,
             None => {
                 let mut first = 0;
@@ -360,7 +371,11 @@ fn sign_and_keep(
     let mut n = 0usize;
     for r in 0..rows.keys.len() {
         offsets.push(n);
-        n += rows.of(r).iter().map(|run| (run[1] - run[0] + 1) as usize).sum::<usize>();
+        n += rows
+            .of(r)
+            .iter()
+            .map(|run| (run[1] - run[0] + 1) as usize)
+            .sum::<usize>();
     }
     offsets.push(n);
     let kept: Vec<Vec<([i32; 3], f32, u32)>> = (0..rows.keys.len())
@@ -368,7 +383,10 @@ fn sign_and_keep(
         .with_min_len(8)
         .map(|r| {
             let [k, j] = rows.keys[r];
-            let runs = windings.on_line(&GridLine { axis: 0, at: [j, k] });
+            let runs = windings.on_line(&GridLine {
+                axis: 0,
+                at: [j, k],
+            });
             let mut next_run = 0;
             let mut winding = 0;
             let corners = rows.of(r).iter().flat_map(|run| run[0]..=run[1]);

@@ -39,7 +39,8 @@ impl GpuRasterize {
         let mut offsets = Vec::with_capacity(counts.len() + 1);
         let mut total = 0u64;
         for c in counts {
-            offsets.push(u32::try_from(total).map_err(|_| RasterError::TooManyItems(total as usize))?);
+            offsets
+                .push(u32::try_from(total).map_err(|_| RasterError::TooManyItems(total as usize))?);
             total += c;
         }
         let candidates =
@@ -77,7 +78,9 @@ impl GpuRasterize {
     /// Zeroes the crossing counter so the job can be dispatched again.
     pub fn reset(&self, context: &GpuContext) {
         if let Some(b) = &self.buffers {
-            context.queue().write_buffer(&b.count, 0, bytemuck::bytes_of(&0u32));
+            context
+                .queue()
+                .write_buffer(&b.count, 0, bytemuck::bytes_of(&0u32));
         }
     }
 

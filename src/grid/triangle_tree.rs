@@ -139,9 +139,8 @@ struct Item {
 impl TriangleTree {
     pub fn build(mesh: &LatticeMesh) -> Self {
         let points = mesh.points();
-        let base: [i32; 3] = std::array::from_fn(|a| {
-            points.iter().map(|p| p.cell[a]).min().unwrap_or(0)
-        });
+        let base: [i32; 3] =
+            std::array::from_fn(|a| points.iter().map(|p| p.cell[a]).min().unwrap_or(0));
         let coordinate = |p: &LatticePoint, a: usize| {
             f64::from(p.cell[a] - base[a]) + f64::from(p.frac[a]) / CELL_UNITS as f64
         };
@@ -152,10 +151,14 @@ impl TriangleTree {
             .map(|(t, tri)| {
                 let p = tri.map(|v| points[v as usize]);
                 let min = std::array::from_fn(|a| {
-                    p.iter().map(|q| coordinate(q, a)).fold(f64::INFINITY, f64::min)
+                    p.iter()
+                        .map(|q| coordinate(q, a))
+                        .fold(f64::INFINITY, f64::min)
                 });
                 let max = std::array::from_fn(|a| {
-                    p.iter().map(|q| coordinate(q, a)).fold(f64::NEG_INFINITY, f64::max)
+                    p.iter()
+                        .map(|q| coordinate(q, a))
+                        .fold(f64::NEG_INFINITY, f64::max)
                 });
                 let centroid = std::array::from_fn(|a| (min[a] + max[a]) * 0.5);
                 Item {
@@ -332,11 +335,13 @@ fn node_count(n: usize) -> usize {
 /// slots from `first`, reordering `items` into leaf order. Halves are built in parallel; the layout
 /// is fixed by the counts alone, so it does not depend on the thread count.
 fn build_node(items: &mut [Item], nodes: &mut [TreeNode], at: usize, first: usize) {
-    let min: [f64; 3] = std::array::from_fn(|a| {
-        items.iter().map(|i| i.min[a]).fold(f64::INFINITY, f64::min)
-    });
+    let min: [f64; 3] =
+        std::array::from_fn(|a| items.iter().map(|i| i.min[a]).fold(f64::INFINITY, f64::min));
     let max: [f64; 3] = std::array::from_fn(|a| {
-        items.iter().map(|i| i.max[a]).fold(f64::NEG_INFINITY, f64::max)
+        items
+            .iter()
+            .map(|i| i.max[a])
+            .fold(f64::NEG_INFINITY, f64::max)
     });
     let (min, max) = (min.map(round_down), max.map(round_up));
     if items.len() <= LEAF_SIZE {
@@ -389,9 +394,8 @@ fn build_node(items: &mut [Item], nodes: &mut [TreeNode], at: usize, first: usiz
 /// Triangle `t` with its corners as offsets from its lowest cell.
 fn tree_triangle(mesh: &LatticeMesh, t: u32) -> TreeTriangle {
     let corners = mesh.corners(t as usize);
-    let base: [i32; 3] = std::array::from_fn(|a| {
-        corners.iter().map(|p| p.cell[a]).min().unwrap_or(0)
-    });
+    let base: [i32; 3] =
+        std::array::from_fn(|a| corners.iter().map(|p| p.cell[a]).min().unwrap_or(0));
     let local = |p: &LatticePoint| -> [f64; 3] {
         std::array::from_fn(|a| {
             f64::from(p.cell[a] - base[a]) + f64::from(p.frac[a]) / CELL_UNITS as f64

@@ -57,7 +57,11 @@ impl Assessment {
 
 /// Measures every triangle and edge of `mesh` against `params`.
 pub fn assess(mesh: &IndexedMesh, params: &ImproveParams) -> Assessment {
-    let (lo, hi, l) = (params.min_edge_length(), params.max_edge_length(), params.edge_length);
+    let (lo, hi, l) = (
+        params.min_edge_length(),
+        params.max_edge_length(),
+        params.edge_length,
+    );
     let mut out = Assessment {
         triangles: mesh.triangles.len(),
         small_angle: 0,
@@ -91,8 +95,11 @@ pub fn assess(mesh: &IndexedMesh, params: &ImproveParams) -> Assessment {
             });
         }
     }
-    out.worst
-        .sort_by(|a, b| a.min_angle.total_cmp(&b.min_angle).then(a.triangle.cmp(&b.triangle)));
+    out.worst.sort_by(|a, b| {
+        a.min_angle
+            .total_cmp(&b.min_angle)
+            .then(a.triangle.cmp(&b.triangle))
+    });
     let edges = mesh.sorted_edges();
     for pair in edges.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
         let (a, b) = (pair[0].0 as usize, pair[0].1 as usize);
@@ -100,7 +107,9 @@ pub fn assess(mesh: &IndexedMesh, params: &ImproveParams) -> Assessment {
         let length = mesh.positions[a].distance(mesh.positions[b]);
         out.edge_length_histogram[bucket(&LENGTH_BUCKETS, length / l)] += 1;
         if let [x, y] = pair {
-            let n = |t: u32| face_normal(mesh.triangles[t as usize].map(|v| mesh.positions[v as usize]));
+            let n = |t: u32| {
+                face_normal(mesh.triangles[t as usize].map(|v| mesh.positions[v as usize]))
+            };
             let sharp = dihedral_degrees(n(x.3), n(y.3))
                 .is_none_or(|angle| angle < params.min_dihedral_degrees);
             out.sharp_edges += usize::from(sharp);

@@ -10,7 +10,7 @@ use super::flip::check_flip;
 use super::params::Limits;
 use super::queue::{Kind, Queue, Task};
 use super::report::{ImproveReport, Operation, Refusal};
-use super::scan::{face_task, edge_tasks, rescan, scan};
+use super::scan::{edge_tasks, face_task, rescan, scan};
 use super::split::check_split;
 use crate::mesh::{FaceId, HalfEdgeId, Mesh};
 
@@ -50,7 +50,11 @@ pub(super) fn candidates(mesh: &Mesh, task: &Task, h: HalfEdgeId, limits: &Limit
             let [shortest, middle, longest] = edges;
             let mut fixes = vec![Fix::Flip(longest), Fix::Collapse(shortest)];
             fixes.extend(removals(mesh, shortest, limits));
-            fixes.extend([Fix::Collapse(middle), Fix::Flip(middle), Fix::Split(longest)]);
+            fixes.extend([
+                Fix::Collapse(middle),
+                Fix::Flip(middle),
+                Fix::Split(longest),
+            ]);
             fixes
         }
     }
@@ -84,9 +88,13 @@ fn length(mesh: &Mesh, h: HalfEdgeId) -> f32 {
 
 /// The longest edge of the face of `h`.
 fn longest_edge(mesh: &Mesh, h: HalfEdgeId) -> HalfEdgeId {
-    [mesh.next(h), mesh.prev(h)]
-        .into_iter()
-        .fold(h, |best, e| if length(mesh, e) > length(mesh, best) { e } else { best })
+    [mesh.next(h), mesh.prev(h)].into_iter().fold(h, |best, e| {
+        if length(mesh, e) > length(mesh, best) {
+            e
+        } else {
+            best
+        }
+    })
 }
 
 /// Why `fix` would be refused now, if it would.
@@ -99,7 +107,12 @@ pub(super) fn check(mesh: &Mesh, fix: Fix, limits: &Limits) -> Result<(), Refusa
 }
 
 /// Performs `fix` when its checks pass; returns the faces it created.
-fn apply(mesh: &mut Mesh, fix: Fix, limits: &Limits, report: &mut ImproveReport) -> Option<Vec<FaceId>> {
+fn apply(
+    mesh: &mut Mesh,
+    fix: Fix,
+    limits: &Limits,
+    report: &mut ImproveReport,
+) -> Option<Vec<FaceId>> {
     let created = match fix {
         Fix::Flip(h) => check_flip(mesh, h, limits).and_then(|()| {
             let e = mesh.flip(h).ok_or(Refusal::Degenerate)?;
@@ -121,7 +134,11 @@ fn apply(mesh: &mut Mesh, fix: Fix, limits: &Limits, report: &mut ImproveReport)
 }
 
 /// Works the queue of bad elements until it is empty; returns the number of operations performed.
-pub(super) fn fix_bad_elements(mesh: &mut Mesh, limits: &Limits, report: &mut ImproveReport) -> usize {
+pub(super) fn fix_bad_elements(
+    mesh: &mut Mesh,
+    limits: &Limits,
+    report: &mut ImproveReport,
+) -> usize {
     let mut queue: Queue = scan(mesh, limits).into_iter().collect();
     let mut done = 0;
     while let Some(task) = queue.pop() {

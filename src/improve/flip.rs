@@ -51,9 +51,10 @@ pub(super) fn check_flip(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<
         (new_normals[1], beyond(mesh.prev(t))),
         (new_normals[1], beyond(mesh.next(h))),
     ];
-    if pairs.iter().any(|&(n, m)| {
-        dihedral_degrees(n, m).is_none_or(|angle| angle < limits.min_dihedral)
-    }) {
+    if pairs
+        .iter()
+        .any(|&(n, m)| dihedral_degrees(n, m).is_none_or(|angle| angle < limits.min_dihedral))
+    {
         return Err(Refusal::SharpDihedral);
     }
     if !within(&new, &old, limits.deviation) {

@@ -33,7 +33,10 @@ impl<'a> SurfaceDistance<'a> {
             for z in a.z..=b.z {
                 for y in a.y..=b.y {
                     for x in a.x..=b.x {
-                        buckets.entry(IVec3::new(x, y, z)).or_default().push(t as u32);
+                        buckets
+                            .entry(IVec3::new(x, y, z))
+                            .or_default()
+                            .push(t as u32);
                     }
                 }
             }
@@ -105,10 +108,21 @@ pub fn one_sided_hausdorff(from: &IndexedMesh, to: &IndexedMesh) -> f32 {
         .map(|tri| {
             let [a, b, c] = tri.map(|v| from.positions[v as usize]);
             let g = (a + b + c) / 3.0;
-            [a, b, c, (a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5, g, (g + a) * 0.5, (g + b) * 0.5, (g + c) * 0.5]
-                .into_iter()
-                .map(|p| target.distance(p))
-                .fold(0.0f32, f32::max)
+            [
+                a,
+                b,
+                c,
+                (a + b) * 0.5,
+                (b + c) * 0.5,
+                (c + a) * 0.5,
+                g,
+                (g + a) * 0.5,
+                (g + b) * 0.5,
+                (g + c) * 0.5,
+            ]
+            .into_iter()
+            .map(|p| target.distance(p))
+            .fold(0.0f32, f32::max)
         })
         .reduce(|| 0.0, f32::max)
 }

@@ -61,14 +61,22 @@ fn unfixed(mesh: &Mesh, limits: &Limits) -> Vec<Unfixed> {
             let h = task.locate(mesh)?;
             let mut refusals: Vec<(Operation, Refusal)> = fix::candidates(mesh, &task, h, limits)
                 .into_iter()
-                .filter_map(|f| fix::check(mesh, f, limits).err().map(|r| (f.operation(), r)))
+                .filter_map(|f| {
+                    fix::check(mesh, f, limits)
+                        .err()
+                        .map(|r| (f.operation(), r))
+                })
                 .collect();
             refusals.sort();
             refusals.dedup();
             let ids = task.corners.map(|c| c.1);
             let (problem, vertices, measure) = match task.kind {
                 Kind::SmallAngle => (Problem::SmallAngle, ids.to_vec(), task.measure),
-                Kind::ShortEdge => (Problem::ShortEdge, ids[..2].to_vec(), task.measure / limits.target),
+                Kind::ShortEdge => (
+                    Problem::ShortEdge,
+                    ids[..2].to_vec(),
+                    task.measure / limits.target,
+                ),
                 Kind::SharpDihedral => (Problem::SharpDihedral, ids[..2].to_vec(), task.measure),
             };
             Some(Unfixed {

@@ -66,13 +66,21 @@ impl ImproveParams {
             return fail("min_angle_degrees", "in [0, 60)", self.min_angle_degrees);
         }
         if !(self.min_dihedral_degrees >= 0.0 && self.min_dihedral_degrees < 180.0) {
-            return fail("min_dihedral_degrees", "in [0, 180)", self.min_dihedral_degrees);
+            return fail(
+                "min_dihedral_degrees",
+                "in [0, 180)",
+                self.min_dihedral_degrees,
+            );
         }
         if !(self.edge_ratio.is_finite() && self.edge_ratio >= 2.0) {
             return fail("edge_ratio", "finite and at least 2", self.edge_ratio);
         }
         if !(self.max_deviation.is_finite() && self.max_deviation >= 0.0) {
-            return fail("max_deviation", "finite and non-negative", self.max_deviation);
+            return fail(
+                "max_deviation",
+                "finite and non-negative",
+                self.max_deviation,
+            );
         }
         Ok(())
     }

@@ -16,7 +16,9 @@ pub(super) fn face_task(mesh: &Mesh, f: FaceId, limits: &Limits) -> Option<Task>
 
 /// The edge's tasks: too short, and too sharp a dihedral angle.
 pub(super) fn edge_tasks(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> [Option<Task>; 2] {
-    let length = mesh.position(mesh.origin(h)).distance(mesh.position(mesh.target(h)));
+    let length = mesh
+        .position(mesh.origin(h))
+        .distance(mesh.position(mesh.target(h)));
     let short = (length < limits.min_edge).then(|| Task::edge(mesh, Kind::ShortEdge, length, h));
     let sharp = dihedral_of(mesh, h)
         .filter(|&angle| angle < limits.min_dihedral)

@@ -2,9 +2,9 @@
 //! not move the surface; the two halves of an edge just past the limit are at least `L` long, above
 //! the collapse threshold.
 
+use super::geometry::fails;
 use super::params::Limits;
 use super::report::{ImproveReport, Refusal};
-use super::geometry::fails;
 use crate::mesh::{HalfEdgeId, Mesh};
 use glam::Vec3;
 use std::collections::BinaryHeap;
@@ -17,7 +17,11 @@ struct LongEdge {
 }
 
 /// Splits every edge longer than `limits.max_edge` (repeatedly, until none is); returns how many.
-pub(super) fn split_long_edges(mesh: &mut Mesh, limits: &Limits, report: &mut ImproveReport) -> usize {
+pub(super) fn split_long_edges(
+    mesh: &mut Mesh,
+    limits: &Limits,
+    report: &mut ImproveReport,
+) -> usize {
     let key = |mesh: &Mesh, h: HalfEdgeId| {
         let (a, b) = (mesh.origin(h), mesh.target(h));
         let length = mesh.position(a).distance(mesh.position(b));
@@ -67,7 +71,10 @@ pub(super) fn check_split(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result
     let (c, d) = (mesh.origin(mesh.prev(h)), mesh.origin(mesh.prev(t)));
     let [pa, pb, pc, pd] = [a, b, c, d].map(|v| mesh.position(v));
     let m = (pa + pb) * 0.5;
-    if [pa, pc, pd].iter().any(|&p| m.distance(p) < limits.min_edge) {
+    if [pa, pc, pd]
+        .iter()
+        .any(|&p| m.distance(p) < limits.min_edge)
+    {
         return Err(Refusal::ShortEdge);
     }
     let failing = |faces: &[[Vec3; 3]]| {

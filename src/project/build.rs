@@ -283,7 +283,9 @@ impl Binning {
     #[inline(always)]
     fn bins(&self, centroid: Vec3A) -> [usize; 3] {
         let k = ((centroid - self.origin) * self.scale).as_uvec3();
-        k.min(UVec3::splat(self.len as u32 - 1)).to_array().map(|k| k as usize)
+        k.min(UVec3::splat(self.len as u32 - 1))
+            .to_array()
+            .map(|k| k as usize)
     }
 
     fn splits(&self, axis: usize) -> bool {

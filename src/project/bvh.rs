@@ -4,8 +4,8 @@ use rayon::prelude::*;
 
 use super::build::{self, MAX_DEPTH, MAX_LEAF};
 use super::gpu::Resident;
-use super::shading::shading;
 use super::node::NodePair;
+use super::shading::shading;
 use super::{BvhNode, BvhTriangle, NormalTriple, ProjectError, PseudoNormals};
 use crate::compute::{Backend, ComputeError, triangle_bounds};
 use crate::mesh::{IndexedMesh, MeshError};

@@ -129,7 +129,8 @@ impl GpuQueries {
             chunks.push(Chunk {
                 points: context.upload("points", chunk)?,
                 directions,
-                correspondences: context.output::<Correspondence>("correspondences", chunk.len())?,
+                correspondences: context
+                    .output::<Correspondence>("correspondences", chunk.len())?,
                 count: chunk.len(),
             });
         }

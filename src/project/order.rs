@@ -42,7 +42,9 @@ impl SpatialOrder {
             .par_iter()
             .map(|&p| {
                 if p.is_finite() {
-                    let cell = ((p - lo) * scale).as_uvec3().min(UVec3::splat((1 << BITS) - 1));
+                    let cell = ((p - lo) * scale)
+                        .as_uvec3()
+                        .min(UVec3::splat((1 << BITS) - 1));
                     morton(cell)
                 } else {
                     0
@@ -90,11 +92,16 @@ mod tests {
 
     #[test]
     fn permutation_round_trips_and_neighbours_stay_close() {
-        let points: Vec<Vec3> = (0..1000)
-            .map(|i| {
-                let f = i as f32;
-                Vec3::new((f * 0.37).sin(), (f * 0.11).cos(), (f * 0.07).sin())
-            })
+        // Uniform points in the unit cube from an LCG, in random order.
+        let mut state = 1u64;
+        let mut unit = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let points: Vec<Vec3> = (0..4096)
+            .map(|_| Vec3::new(unit(), unit(), unit()))
             .chain([Vec3::NAN, Vec3::INFINITY])
             .collect();
         let order = SpatialOrder::new(&points);
@@ -104,7 +111,10 @@ mod tests {
         seen.sort_unstable();
         assert_eq!(seen, ids, "a permutation");
         assert_eq!(order.restore(&run), ids, "restore undoes permute");
-        assert!(!points[run[0] as usize].is_finite(), "non-finite points go first");
+        assert!(
+            !points[run[0] as usize].is_finite(),
+            "non-finite points go first"
+        );
         let path = |ids: &[u32]| -> f32 {
             ids.windows(2)
                 .map(|w| points[w[0] as usize].distance(points[w[1] as usize]))
@@ -112,7 +122,10 @@ mod tests {
                 .sum()
         };
         let (curve, given) = (path(&run), path(&ids));
-        assert!(curve < 0.25 * given, "the curve shortens the walk: {curve} vs {given}");
+        assert!(
+            curve < 0.25 * given,
+            "the curve shortens the walk: {curve} vs {given}"
+        );
     }
 
     #[test]

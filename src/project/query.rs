@@ -62,10 +62,8 @@ pub fn closest_points(
 ) -> Result<Vec<Correspondence>, ProjectError> {
     let mut found = match backend {
         Backend::Cpu => {
-            let params = QueryParams::closest(absolute_distance(
-                max_distance,
-                bvh.mean_edge_length(),
-            )?);
+            let params =
+                QueryParams::closest(absolute_distance(max_distance, bvh.mean_edge_length())?);
             let order = SpatialOrder::new(points);
             order.restore(&closest_point_cpu(bvh, &order.permute(points), &params))
         }

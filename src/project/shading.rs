@@ -108,5 +108,9 @@ fn mean_edge_length(mesh: &IndexedMesh, around: &VertexFaces) -> f32 {
     let (sum, count) = per_vertex
         .iter()
         .fold((0.0, 0), |(s, n), &(vs, vn)| (s + vs, n + vn));
-    if count == 0 { 0.0 } else { (sum / count as f64) as f32 }
+    if count == 0 {
+        0.0
+    } else {
+        (sum / count as f64) as f32
+    }
 }

@@ -26,7 +26,11 @@ impl Slabs {
     pub(super) fn new(origin: Vec3, direction: Vec3) -> Self {
         let safe = |d: f32| {
             if d.abs() < MIN_DIRECTION {
-                if d < 0.0 { -MIN_DIRECTION } else { MIN_DIRECTION }
+                if d < 0.0 {
+                    -MIN_DIRECTION
+                } else {
+                    MIN_DIRECTION
+                }
             } else {
                 d
             }

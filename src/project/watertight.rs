@@ -67,7 +67,11 @@ impl Shear {
         let project = |p: Vec3| {
             let p = p.to_array();
             let z = p[kz] - o[kz];
-            (p[kx] - o[kx] - self.sx * z, p[ky] - o[ky] - self.sy * z, self.sz * z)
+            (
+                p[kx] - o[kx] - self.sx * z,
+                p[ky] - o[ky] - self.sy * z,
+                self.sz * z,
+            )
         };
         let (ax, ay, az) = project(tri.a);
         let (bx, by, bz) = project(tri.b);

@@ -326,10 +326,11 @@ fn replace_whole(
         parameters: Default::default(),
     };
     let recorded = record(grid, &built, &Default::default(), mesh.next_id());
-    let rebuilt = verify(&built.mesh, &recorded, target).map_err(|_| TopologyError::Unresolved {
-        attempts: report.abandoned.len() + 1,
-        reason: report.abandoned.join("; "),
-    })?;
+    let rebuilt =
+        verify(&built.mesh, &recorded, target).map_err(|_| TopologyError::Unresolved {
+            attempts: report.abandoned.len() + 1,
+            reason: report.abandoned.join("; "),
+        })?;
     report.resampling = Resampling::Whole;
     report.region_cells = cells;
     summarize(recorded, &mut report);

@@ -193,7 +193,11 @@ impl Tables {
 
 impl<'a> MeshGrid<'a> {
     /// The mesh `half` (whose indexed form is `mesh`) on the grid `frame`.
-    pub fn new(mesh: &'a IndexedMesh, half: &'a Mesh, frame: GridFrame) -> Result<Self, TopologyError> {
+    pub fn new(
+        mesh: &'a IndexedMesh,
+        half: &'a Mesh,
+        frame: GridFrame,
+    ) -> Result<Self, TopologyError> {
         let lattice = LatticeMesh::new(frame, mesh)?;
         let crossings = rasterize(&Backend::Cpu, &lattice)?;
         let windings = sweep(&Backend::Cpu, &crossings)?;

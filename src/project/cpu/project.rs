@@ -92,9 +92,7 @@ pub(in crate::project) fn nearest_hit(
                     continue;
                 };
                 let distance = hit.t.abs();
-                if hit.t >= floor
-                    && (distance < best || (distance == best && tri.id < best_id))
-                {
+                if hit.t >= floor && (distance < best || (distance == best && tri.id < best_id)) {
                     best = distance;
                     best_id = tri.id;
                     found = Some(LineHit {

@@ -1,3 +1,0 @@
-#[path = "../tests/topology_scenes.rs"]
-mod scenes;
-fn main() {}
