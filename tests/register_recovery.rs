@@ -1,4 +1,5 @@
 //! Registration recovers known motions of independently re-meshed shapes (issue 5, bar 2).
+#![allow(dead_code)]
 
 use glam::{Quat, Vec3};
 use surftrack::compute::Backend;

@@ -4,6 +4,7 @@
 //! surface lies within the footprint dilated by `floor(r)` cells in each direction (Chebyshev). The
 //! footprint is kept as runs of cells along x, and the dilation is done axis by axis on the runs,
 //! so the work and memory follow the band's volume, never the bounding box's.
+#![allow(clippy::type_complexity)]
 
 use rayon::prelude::*;
 

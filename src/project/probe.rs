@@ -51,7 +51,7 @@ mod stats_probe {
             .num_threads(1)
             .build()
             .unwrap();
-        let mut best = f64::MAX;
+        let best = f64::MAX;
         fn cpu_ns() -> f64 {
             let s = std::fs::read_to_string("/proc/thread-self/schedstat").unwrap();
             s.split_whitespace().next().unwrap().parse::<f64>().unwrap()
@@ -95,7 +95,7 @@ mod stats_probe {
                 )
             })
             .collect();
-        let mut bests = vec![f64::MAX; 3];
+        let mut bests = [f64::MAX; 3];
         for _ in 0..7 {
             for (k, (_, p, nn)) in sets.iter().enumerate() {
                 let c = pool.install(|| {

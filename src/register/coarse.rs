@@ -9,6 +9,7 @@
 //! vertex's correspondence is replaced only when the new one fits the vertex better, so the
 //! stage's energy can only fall (every term is then no larger than before); each new stage starts
 //! from a complete fresh projection.
+#![allow(clippy::collapsible_if)]
 
 use std::time::Instant;
 
