@@ -100,10 +100,12 @@ fn side_normal(tri: BvhTriangle, pseudo: PseudoNormals, feature: u32) -> vec3<f3
     return cross(tri.b - tri.a, tri.c - tri.a);
 }
 
-// Squared distance from p to the node's box (0 inside).
-fn box_distance2(node: BvhNode, p: vec3<f32>) -> f32 {
-    let d = max(max(node.min - p, p - node.max), vec3<f32>(0.0));
-    return dot(d, d);
+// Per child: the squared distance from p to the child's box (0 inside).
+fn box_distance2(node: BvhNode, p: vec3<f32>) -> vec4<f32> {
+    let dx = max(max(node.min_x - p.x, p.x - node.max_x), vec4<f32>(0.0));
+    let dy = max(max(node.min_y - p.y, p.y - node.max_y), vec4<f32>(0.0));
+    let dz = max(max(node.min_z - p.z, p.z - node.max_z), vec4<f32>(0.0));
+    return dx * dx + dy * dy + dz * dz;
 }
 
 @compute @workgroup_size(WORKGROUP_SIZE)
@@ -125,8 +127,13 @@ fn main(
     var sp = 0u;
     var node = nodes[0];
     loop {
-        if node.count > 0u {
-            for (var slot = node.index; slot < node.index + node.count; slot += 1u) {
+        let keys = box_distance2(node, p);
+        for (var k = 0u; k < 4u; k += 1u) {
+            let count = node.count[k];
+            if count == 0u || count == EMPTY_CHILD || keys[k] > best {
+                continue;
+            }
+            for (var slot = node.child[k]; slot < node.child[k] + count; slot += 1u) {
                 let tri = triangles[slot];
                 let q = closest_on_triangle(p, tri).point;
                 let distance2 = dot(p - q, p - q);
@@ -136,31 +143,33 @@ fn main(
                     best_slot = slot;
                 }
             }
-        } else {
-            let left = node.index;
-            let key_left = box_distance2(nodes[left], p);
-            let key_right = box_distance2(nodes[left + 1u], p);
-            let hit_left = key_left <= best;
-            let hit_right = key_right <= best;
-            if hit_left && hit_right {
-                var near = left;
-                var far = left + 1u;
-                var far_key = key_right;
-                if key_right < key_left {
-                    near = left + 1u;
-                    far = left;
-                    far_key = key_left;
+        }
+        var near_node: array<u32, 4>;
+        var near_key: array<f32, 4>;
+        var n_near = 0u;
+        for (var k = 0u; k < 4u; k += 1u) {
+            let key = keys[k];
+            if node.count[k] == 0u && key <= best {
+                // Insertion by key, nearest first.
+                var j = n_near;
+                while j > 0u && near_key[j - 1u] > key {
+                    near_node[j] = near_node[j - 1u];
+                    near_key[j] = near_key[j - 1u];
+                    j -= 1u;
                 }
-                stack_node[sp] = far;
-                stack_key[sp] = far_key;
+                near_node[j] = node.child[k];
+                near_key[j] = key;
+                n_near += 1u;
+            }
+        }
+        if n_near > 0u {
+            for (var j = n_near - 1u; j > 0u; j -= 1u) {
+                stack_node[sp] = near_node[j];
+                stack_key[sp] = near_key[j];
                 sp += 1u;
-                node = nodes[near];
-                continue;
             }
-            if hit_left || hit_right {
-                node = nodes[select(left + 1u, left, hit_left)];
-                continue;
-            }
+            node = nodes[near_node[0]];
+            continue;
         }
         var popped = false;
         while sp > 0u {

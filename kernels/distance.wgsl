@@ -1,21 +1,22 @@
 // Narrow-band distance: the nearest triangle of each candidate corner, within the band.
-// CPU twin: src/grid/distance.rs (`chunk_nearest`, the body of `main`) with
+// CPU twin: src/grid/distance.rs (`tile_nearest`, the body of `main`) with
 // src/grid/triangle_tree.rs (`gather`, `nearest`, `point_triangle_distance_squared`), line for
 // line. Prepended: shared/distance.wgsl.
 //
-// One invocation per chunk of up to 16 corners along x: the triangles whose boxes lie within the
-// band of the chunk's segment are gathered once; each corner bounds every gathered triangle's
-// distance from below (the larger of its box's and its plane's), tests the previous corner's
-// nearest first (for the first corner, the one with the least bound), then those whose bound is
-// below the best so far. A chunk near more than
-// GATHER_CAPACITY triangles searches the tree once per corner instead.
+// One invocation per tile (up to 16 × 2 × 2 candidate corners, in chunks along x): the triangles
+// whose boxes lie within the band of the tile's box are gathered once; each corner bounds every
+// gathered triangle's distance from below (the larger of its box's and its plane's), tests the
+// previous corner's nearest first (for a chunk's first corner, the one with the least bound), then
+// those whose bound is below the best so far. A tile near more than GATHER_CAPACITY triangles searches the tree once
+// per corner instead.
 
 @group(0) @binding(0) var<storage, read> params: array<DistanceParams>;
 @group(0) @binding(1) var<storage, read> nodes: array<TreeNode>;
 @group(0) @binding(2) var<storage, read> triangles: array<TreeTriangle>;
 @group(0) @binding(3) var<storage, read> boxes: array<TriangleBox>;
 @group(0) @binding(4) var<storage, read> chunks: array<BandChunk>;
-@group(0) @binding(5) var<storage, read_write> nearest: array<Nearest>;
+@group(0) @binding(5) var<storage, read> tiles: array<BandTile>;
+@group(0) @binding(6) var<storage, read_write> nearest: array<Nearest>;
 
 const WORKGROUP_SIZE: u32 = 64u;
 
@@ -170,6 +171,10 @@ fn search(corner: vec3<i32>, p: vec3<f32>, start: Best) -> Best {
     return best;
 }
 
+fn chunk_first(c: u32) -> vec3<i32> {
+    return vec3<i32>(chunks[c].first[0], chunks[c].first[1], chunks[c].first[2]);
+}
+
 @compute @workgroup_size(WORKGROUP_SIZE)
 fn main(
     @builtin(workgroup_id) wg: vec3<u32>,
@@ -177,15 +182,21 @@ fn main(
     @builtin(local_invocation_index) lane: u32,
 ) {
     let q = (wg.y * groups.x + wg.x) * WORKGROUP_SIZE + lane;
-    if q >= arrayLength(&chunks) {
+    if q >= arrayLength(&tiles) {
         return;
     }
-    let chunk = chunks[q];
-    let first = vec3<i32>(chunk.first[0], chunk.first[1], chunk.first[2]);
+    let tile = tiles[q];
     let base = vec3<i32>(params[0].base[0], params[0].base[1], params[0].base[2]);
     let bound = params[0].bound;
-    let lo = vec3<f32>(first - base);
-    let hi = lo + vec3<f32>(f32(chunk.len - 1u), 0.0, 0.0);
+    var first_corner = vec3<i32>(2147483647);
+    var last_corner = vec3<i32>(-2147483647 - 1);
+    for (var c = tile.first; c < tile.first + tile.count; c += 1u) {
+        let f = chunk_first(c);
+        first_corner = min(first_corner, f);
+        last_corner = max(last_corner, f + vec3<i32>(i32(chunks[c].len) - 1, 0, 0));
+    }
+    let lo = vec3<f32>(first_corner - base);
+    let hi = vec3<f32>(last_corner - base);
 
     // `gather`: a traversal collecting every triangle whose box is within the band of lo..hi.
     var slots: array<u32, GATHER_CAPACITY>;
@@ -228,73 +239,81 @@ fn main(
     }
 
     if !complete {
-        for (var i = 0u; i < chunk.len; i += 1u) {
-            let corner = first + vec3<i32>(i32(i), 0, 0);
-            let best = search(corner, vec3<f32>(corner - base), Best(bound, NO_SLOT));
-            nearest[chunk.out + i] = Nearest(best.distance_squared, best.slot);
+        for (var c = tile.first; c < tile.first + tile.count; c += 1u) {
+            for (var i = 0u; i < chunks[c].len; i += 1u) {
+                let corner = chunk_first(c) + vec3<i32>(i32(i), 0, 0);
+                let best = search(corner, vec3<f32>(corner - base), Best(bound, NO_SLOT));
+                nearest[chunks[c].out + i] = Nearest(best.distance_squared, best.slot);
+            }
         }
         return;
     }
 
-    // The parts of each gathered triangle's lower bound that do not depend on x.
     var across: array<f32, GATHER_CAPACITY>;
-    var plane: array<f32, GATHER_CAPACITY>;
+    var plane_at: array<f32, GATHER_CAPACITY>;
     var bounds: array<f32, GATHER_CAPACITY>;
-    for (var k = 0u; k < gathered; k += 1u) {
-        let slot = slots[k];
-        let gap = max(max(vec(boxes[slot].min) - lo, lo - vec(boxes[slot].max)), vec3<f32>(0.0));
-        across[k] = gap.y * gap.y + gap.z * gap.z;
-        let t = triangles[slot];
-        let p = vec3<f32>(first - vec3<i32>(t.base[0], t.base[1], t.base[2]));
-        plane[k] = t.normal[0] * p.x + t.normal[1] * p.y + t.normal[2] * p.z - t.offset;
-    }
-
-    var hint = NO_SLOT;
-    for (var i = 0u; i < chunk.len; i += 1u) {
-        let x = lo.x + f32(i);
-        let corner = first + vec3<i32>(i32(i), 0, 0);
+    for (var c = tile.first; c < tile.first + tile.count; c += 1u) {
+        let first = chunk_first(c);
+        let start = vec3<f32>(first - base);
+        let offset = vec3<f32>(first - first_corner);
         for (var k = 0u; k < gathered; k += 1u) {
             let slot = slots[k];
-            let gap = max(max(boxes[slot].min[0] - x, x - boxes[slot].max[0]), 0.0);
-            let to_plane = max(abs(plane[k] + triangles[slot].normal[0] * f32(i)) - PLANE_SLACK,
-                0.0);
-            bounds[k] = max(across[k] + gap * gap, to_plane * to_plane);
+            let gap = max(max(vec(boxes[slot].min) - start, start - vec(boxes[slot].max)),
+                vec3<f32>(0.0));
+            across[k] = gap.y * gap.y + gap.z * gap.z;
+            let t = triangles[slot];
+            let p = vec3<f32>(first_corner - vec3<i32>(t.base[0], t.base[1], t.base[2]));
+            let plane = t.normal[0] * p.x + t.normal[1] * p.y + t.normal[2] * p.z - t.offset;
+            plane_at[k] = plane + t.normal[0] * offset.x + t.normal[1] * offset.y
+                + t.normal[2] * offset.z;
         }
-        // The previous corner's nearest triangle, or else the one with the least bound.
-        var start = hint;
-        if start == NO_SLOT {
-            var least = bitcast<f32>(0x7f800000u);
-            start = 0u;
+        var hint = NO_SLOT;
+        for (var i = 0u; i < chunks[c].len; i += 1u) {
+            let x = start.x + f32(i);
+            let corner = first + vec3<i32>(i32(i), 0, 0);
             for (var k = 0u; k < gathered; k += 1u) {
-                if bounds[k] < least {
-                    least = bounds[k];
-                    start = k;
+                let slot = slots[k];
+                let gap = max(max(boxes[slot].min[0] - x, x - boxes[slot].max[0]), 0.0);
+                let to_plane = max(abs(plane_at[k] + triangles[slot].normal[0] * f32(i))
+                    - PLANE_SLACK, 0.0);
+                bounds[k] = max(across[k] + gap * gap, to_plane * to_plane);
+            }
+            // The previous corner's nearest triangle, or else the one with the least bound.
+            var start_k = hint;
+            if start_k == NO_SLOT {
+                var least = bitcast<f32>(0x7f800000u);
+                start_k = 0u;
+                for (var k = 0u; k < gathered; k += 1u) {
+                    if bounds[k] < least {
+                        least = bounds[k];
+                        start_k = k;
+                    }
                 }
             }
-        }
-        var best = bound;
-        var found = NO_SLOT;
-        if start < gathered && bounds[start] < best {
-            let d = triangle_distance_squared(slots[start], corner);
-            if d < best {
-                best = d;
-                found = start;
-            }
-        }
-        for (var k = 0u; k < gathered; k += 1u) {
-            if bounds[k] < best && k != start {
-                let d = triangle_distance_squared(slots[k], corner);
+            var best = bound;
+            var found = NO_SLOT;
+            if start_k < gathered && bounds[start_k] < best {
+                let d = triangle_distance_squared(slots[start_k], corner);
                 if d < best {
                     best = d;
-                    found = k;
+                    found = start_k;
                 }
             }
+            for (var k = 0u; k < gathered; k += 1u) {
+                if bounds[k] < best && k != start_k {
+                    let d = triangle_distance_squared(slots[k], corner);
+                    if d < best {
+                        best = d;
+                        found = k;
+                    }
+                }
+            }
+            hint = found;
+            var slot = NO_SLOT;
+            if found != NO_SLOT {
+                slot = slots[found];
+            }
+            nearest[chunks[c].out + i] = Nearest(best, slot);
         }
-        hint = found;
-        var slot = NO_SLOT;
-        if found != NO_SLOT {
-            slot = slots[found];
-        }
-        nearest[chunk.out + i] = Nearest(best, slot);
     }
 }

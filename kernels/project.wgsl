@@ -16,7 +16,6 @@ const WORKGROUP_SIZE: u32 = 64u;
 const WIDEN: f32 = 4.76837158e-7;
 // Smaller direction components are replaced by ±this before the reciprocal: no NaN, no infinity.
 const MIN_DIRECTION: f32 = 1e-18;
-const MISS_KEY: f32 = -1.0;
 
 struct Slabs {
     origin: vec3<f32>,
@@ -35,20 +34,25 @@ fn make_slabs(origin: vec3<f32>, direction: vec3<f32>) -> Slabs {
     return Slabs(origin, vec3<f32>(1.0) / safe);
 }
 
-// min |t| over the line's parameters inside the node's box and inside [lo, hi], or MISS_KEY.
-fn slab_key(slabs: Slabs, node: BvhNode, lo: f32, hi: f32) -> f32 {
-    let t0 = (node.min - slabs.origin) * slabs.inv;
-    let t1 = (node.max - slabs.origin) * slabs.inv;
-    let tn = min(t0, t1);
-    let tf = max(t0, t1);
-    let enter_box = max(max(tn.x, tn.y), tn.z);
-    let exit_box = min(min(tf.x, tf.y), tf.z);
-    let enter = max(enter_box - abs(enter_box) * WIDEN, lo);
-    let exit = min(exit_box + abs(exit_box) * WIDEN, hi);
-    if enter <= exit {
-        return max(max(enter, -exit), 0.0);
-    }
-    return MISS_KEY;
+// Per child: min |t| over the line's parameters inside the child's box and inside [lo, hi]
+// (`key`), and whether there are any (`hit`).
+struct SlabKeys {
+    key: vec4<f32>,
+    hit: vec4<bool>,
+}
+
+fn slab_keys(slabs: Slabs, node: BvhNode, lo: f32, hi: f32) -> SlabKeys {
+    let tx0 = (node.min_x - slabs.origin.x) * slabs.inv.x;
+    let tx1 = (node.max_x - slabs.origin.x) * slabs.inv.x;
+    let ty0 = (node.min_y - slabs.origin.y) * slabs.inv.y;
+    let ty1 = (node.max_y - slabs.origin.y) * slabs.inv.y;
+    let tz0 = (node.min_z - slabs.origin.z) * slabs.inv.z;
+    let tz1 = (node.max_z - slabs.origin.z) * slabs.inv.z;
+    let enter_box = max(max(min(tx0, tx1), min(ty0, ty1)), min(tz0, tz1));
+    let exit_box = min(min(max(tx0, tx1), max(ty0, ty1)), max(tz0, tz1));
+    let enter = max(enter_box - abs(enter_box) * WIDEN, vec4<f32>(lo));
+    let exit = min(exit_box + abs(exit_box) * WIDEN, vec4<f32>(hi));
+    return SlabKeys(max(max(enter, -exit), vec4<f32>(0.0)), enter <= exit);
 }
 
 // The axis permutation making the direction's largest component z (keeping the winding) and the
@@ -159,8 +163,13 @@ fn main(
     var sp = 0u;
     var node = nodes[0];
     loop {
-        if node.count > 0u {
-            for (var slot = node.index; slot < node.index + node.count; slot += 1u) {
+        let keys = slab_keys(slabs, node, -best, best);
+        for (var k = 0u; k < 4u; k += 1u) {
+            let count = node.count[k];
+            if !keys.hit[k] || count == 0u || count == EMPTY_CHILD {
+                continue;
+            }
+            for (var slot = node.child[k]; slot < node.child[k] + count; slot += 1u) {
                 let tri = triangles[slot];
                 let hit = intersect(shear, tri);
                 let distance = abs(hit.t);
@@ -172,32 +181,33 @@ fn main(
                     best_weights = hit.weights;
                 }
             }
-        } else {
-            let lo = -best;
-            let left = node.index;
-            let key_left = slab_key(slabs, nodes[left], lo, best);
-            let key_right = slab_key(slabs, nodes[left + 1u], lo, best);
-            let hit_left = key_left != MISS_KEY;
-            let hit_right = key_right != MISS_KEY;
-            if hit_left && hit_right {
-                var near = left;
-                var far = left + 1u;
-                var far_key = key_right;
-                if key_right < key_left {
-                    near = left + 1u;
-                    far = left;
-                    far_key = key_left;
+        }
+        var near_node: array<u32, 4>;
+        var near_key: array<f32, 4>;
+        var n_near = 0u;
+        for (var k = 0u; k < 4u; k += 1u) {
+            let key = keys.key[k];
+            if keys.hit[k] && node.count[k] == 0u && key <= best {
+                // Insertion by key, nearest first.
+                var j = n_near;
+                while j > 0u && near_key[j - 1u] > key {
+                    near_node[j] = near_node[j - 1u];
+                    near_key[j] = near_key[j - 1u];
+                    j -= 1u;
                 }
-                stack_node[sp] = far;
-                stack_key[sp] = far_key;
+                near_node[j] = node.child[k];
+                near_key[j] = key;
+                n_near += 1u;
+            }
+        }
+        if n_near > 0u {
+            for (var j = n_near - 1u; j > 0u; j -= 1u) {
+                stack_node[sp] = near_node[j];
+                stack_key[sp] = near_key[j];
                 sp += 1u;
-                node = nodes[near];
-                continue;
             }
-            if hit_left || hit_right {
-                node = nodes[select(left + 1u, left, hit_left)];
-                continue;
-            }
+            node = nodes[near_node[0]];
+            continue;
         }
         var popped = false;
         while sp > 0u {

@@ -10,7 +10,7 @@ mod project_support;
 
 use std::sync::OnceLock;
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use project_support::{Rng, workload};
 use surftrack::compute::Backend;
 use surftrack::compute::parity::{ParityReport, run_on_gpu};
@@ -224,7 +224,7 @@ fn cpu_projection_matches_brute_force() {
             c.distance,
             c.triangle
         );
-        let exact = points[k].as_dvec3() + normals[k].normalize().as_dvec3() * t;
+        let exact = DVec3::from(points[k].as_dvec3() + normals[k].normalize().as_dvec3() * t);
         assert!(exact.distance(c.point.as_dvec3()) < tol, "query {k}: point");
     }
 }

@@ -4,21 +4,28 @@
 // `vec3<f32>` aligns to 16 bytes, so every vec3 is followed by a 4-byte member, a payload or an
 // explicit padding word written as 0.
 
-// Entries of a traversal stack: the deepest leaf sits fewer levels below the root.
+// Entries of a traversal stack: at most three per level, and the tree is at most 20 levels deep.
 const STACK_SIZE: u32 = 64u;
+// `count` of an unused child slot.
+const EMPTY_CHILD: u32 = 0xffffffffu;
 
 const STATUS_MISS: u32 = 0u;
 const STATUS_ACCEPTED: u32 = 1u;
 const STATUS_NORMAL_MISMATCH: u32 = 2u;
 const NO_TRIANGLE: u32 = 0xffffffffu;
 
-// Interior node (count == 0): children at `index` and `index + 1`. Leaf: triangle slots
-// `index .. index + count`.
+// A 4-wide node: the boxes of its four children axis by axis (lane k is child k). Per child,
+// `count` is 0 for an interior node (`child` is its node index), the number of triangles of a
+// leaf (`child` is its first slot), or EMPTY_CHILD for an unused slot.
 struct BvhNode {
-    min: vec3<f32>,
-    index: u32,
-    max: vec3<f32>,
-    count: u32,
+    min_x: vec4<f32>,
+    min_y: vec4<f32>,
+    min_z: vec4<f32>,
+    max_x: vec4<f32>,
+    max_y: vec4<f32>,
+    max_z: vec4<f32>,
+    child: vec4<u32>,
+    count: vec4<u32>,
 }
 
 // A triangle in leaf order: corners in the target's winding, and its index in the target mesh.

@@ -47,14 +47,21 @@ struct TriangleBox {
     max: array<f32, 3>,
 }
 
-// Corners first + (i, 0, 0) for i < len, whose results go to nearest[out + i].
+// Corners first + (i, 0, 0) for i < len, whose results go to nearest[out + i]: the part of one
+// row of candidate corners that lies in one tile.
 struct BandChunk {
     first: array<i32, 3>,
     len: u32,
     out: u32,
 }
 
-// Most triangles gathered for one chunk (`GATHER_CAPACITY` in src/grid/distance.rs).
+// The chunks first .. first + count (in tile order) of one tile, whose triangles are gathered once.
+struct BandTile {
+    first: u32,
+    count: u32,
+}
+
+// Most triangles gathered for one tile (`GATHER_CAPACITY` in src/grid/distance.rs).
 const GATHER_CAPACITY: u32 = 256u;
 
 // Allowance for rounding in the plane lower bound, in cells (`PLANE_SLACK` in src/grid/distance.rs).

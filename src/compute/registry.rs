@@ -7,7 +7,7 @@
 use super::ComputeError;
 use super::aabb::Aabb;
 use crate::grid::{
-    BandChunk, DistanceParams, GridCrossing, LatticePoint, Nearest, TreeNode, TreeTriangle,
+    BandChunk, BandTile, DistanceParams, GridCrossing, LatticePoint, Nearest, TreeNode, TreeTriangle,
     TriangleBox, WindingRun,
 };
 use crate::project::{
@@ -304,6 +304,10 @@ pub const KERNELS: &[KernelInfo] = &[
                 access: Access::Read,
             },
             Binding {
+                name: "tiles",
+                access: Access::Read,
+            },
+            Binding {
                 name: "nearest",
                 access: Access::ReadWrite,
             },
@@ -349,4 +353,5 @@ pub const GPU_STRUCTS: &[GpuStructLayout] = &[
     DistanceParams::LAYOUT,
     TriangleBox::LAYOUT,
     BandChunk::LAYOUT,
+    BandTile::LAYOUT,
 ];

@@ -5,8 +5,9 @@ use std::collections::HashMap;
 /// `forward` and `backward` carry through a frame transition.
 ///
 /// Storage is dense; the id map is only used for look-ups and never iterated, so the order of `ids()`
-/// depends only on the operations applied, never on hashing.
-#[derive(Debug, Clone, PartialEq)]
+/// depends only on the operations applied, never on hashing. Two channels are equal when they give
+/// the same values to the same ids, whatever their storage order.
+#[derive(Debug, Clone)]
 pub struct VertexValues {
     components: usize,
     ids: Vec<u64>,
@@ -101,5 +102,13 @@ impl VertexValues {
         self.ids.pop();
         self.values.truncate(last * k);
         true
+    }
+}
+
+impl PartialEq for VertexValues {
+    fn eq(&self, other: &Self) -> bool {
+        self.components == other.components
+            && self.len() == other.len()
+            && self.ids.iter().all(|&id| self.get(id) == other.get(id))
     }
 }

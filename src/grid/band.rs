@@ -4,7 +4,6 @@
 //! surface lies within the footprint dilated by `floor(r)` cells in each direction (Chebyshev). The
 //! footprint is kept as runs of cells along x, and the dilation is done axis by axis on the runs,
 //! so the work and memory follow the band's volume, never the bounding box's.
-#![allow(clippy::type_complexity)]
 
 use rayon::prelude::*;
 
@@ -133,10 +132,7 @@ fn transpose(rows: &Rows) -> Rows {
             [k[1], k[0]]
         })
         .collect();
-    let lists = order
-        .iter()
-        .map(|&r| rows.of(r as usize).to_vec())
-        .collect();
+    let lists = order.iter().map(|&r| rows.of(r as usize).to_vec()).collect();
     Rows::from_lists(keys, lists)
 }
 
@@ -164,9 +160,7 @@ mod tests {
         let mut cells: Vec<[i32; 3]> = Vec::new();
         let mut x = 12345u64;
         for _ in 0..300 {
-            x = x
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
+            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             let r = |s: u32| ((x >> s) % 23) as i32 - 11;
             cells.push([r(10), r(20), r(30)]);
         }

@@ -17,7 +17,7 @@ use super::distance_gpu::GpuDistance;
 use super::lattice::LatticeMesh;
 use super::sparse::GridLine;
 use super::sweep::Windings;
-use super::triangle_tree::TriangleTree;
+use super::triangle_tree::{TriangleBox, TriangleTree};
 use crate::compute::Backend;
 use crate::compute::registry::{GpuStructLayout, SharedWgsl};
 
@@ -41,10 +41,7 @@ impl Nearest {
         wgsl: &SharedWgsl::DISTANCE,
         size: size_of::<Self>(),
         members: &[
-            (
-                "distance_squared",
-                core::mem::offset_of!(Self, distance_squared),
-            ),
+            ("distance_squared", core::mem::offset_of!(Self, distance_squared)),
             ("slot", core::mem::offset_of!(Self, slot)),
         ],
     };
@@ -121,30 +118,31 @@ pub fn signed_distance(
         });
     }
     let rows = dilated_corners(footprint, half_width.floor() as i32);
-    let chunks = chunks(&rows)?;
+    let (chunks, tiles) = tiles(&rows)?;
     let bound = half_width * half_width;
     let nearest = match backend {
-        Backend::Cpu => distance_cpu(&tree, &chunks, bound),
+        Backend::Cpu => distance_cpu(&tree, &chunks, &tiles, bound),
         Backend::Gpu(context) => {
-            let job = GpuDistance::upload(context, &tree, &chunks, bound)?;
+            let job = GpuDistance::upload(context, &tree, &chunks, &tiles, bound)?;
             job.dispatch(context)?;
             job.read(context)?
         }
     };
-    Ok(sign_and_keep(
-        mesh, &tree, &rows, &nearest, windings, half_width,
-    ))
+    Ok(sign_and_keep(mesh, &tree, &rows, &nearest, windings, half_width))
 }
 
-/// Corners per chunk: a chunk's triangles are gathered once for all its corners.
-const CHUNK_LEN: i32 = 16;
+/// Corners of a tile along x; tiles are aligned to multiples of it.
+const CHUNK_LEN: i32 = 8;
 
-/// Most triangles gathered for one chunk (the kernel's private array); a chunk near more falls
+/// Rows of a tile along y and along z.
+const TILE_ROWS: i32 = 4;
+
+/// Most triangles gathered for one tile (the kernel's private array); a tile near more falls
 /// back to one tree search per corner.
 pub(crate) const GATHER_CAPACITY: usize = 256;
 
-/// Corners `first + (i, 0, 0)` for `i < len`, whose results go to `out + i`: a piece of a row of
-/// candidate corners, at most [`CHUNK_LEN`] long.
+/// Corners `first + (i, 0, 0)` for `i < len`, whose results go to `out + i`: the part of one row of
+/// candidate corners that lies in one tile.
 ///
 /// Mirrors `struct BandChunk` in `kernels/shared/distance.wgsl`.
 #[repr(C)]
@@ -169,26 +167,70 @@ impl BandChunk {
     };
 }
 
-/// The candidate rows cut into chunks, in row order, results numbered consecutively.
-fn chunks(rows: &Rows) -> Result<Vec<BandChunk>, RasterError> {
+/// The chunks `first .. first + count` (in tile order) of one tile: up to [`CHUNK_LEN`] ×
+/// [`TILE_ROWS`] × [`TILE_ROWS`] candidate corners whose triangles are gathered once.
+///
+/// Mirrors `struct BandTile` in `kernels/shared/distance.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
+pub struct BandTile {
+    pub first: u32,
+    pub count: u32,
+}
+
+impl BandTile {
+    /// The layout the WGSL mirror must have, checked against naga in `tests/kernels_validate.rs`.
+    pub const LAYOUT: GpuStructLayout = GpuStructLayout {
+        name: "BandTile",
+        wgsl: &SharedWgsl::DISTANCE,
+        size: size_of::<Self>(),
+        members: &[
+            ("first", core::mem::offset_of!(Self, first)),
+            ("count", core::mem::offset_of!(Self, count)),
+        ],
+    };
+}
+
+/// The candidate rows cut into chunks at multiples of [`CHUNK_LEN`], results numbered in row
+/// order, then grouped into tiles (chunks in tile order, and the tiles).
+pub(crate) fn tiles(rows: &Rows) -> Result<(Vec<BandChunk>, Vec<BandTile>), RasterError> {
     let mut chunks = Vec::with_capacity(rows.runs.len());
     let mut out = 0usize;
     for (r, &[k, j]) in rows.keys.iter().enumerate() {
         for run in rows.of(r) {
             let mut i = run[0];
             while i <= run[1] {
-                let len = (run[1] - i + 1).min(CHUNK_LEN);
+                let end = ((i.div_euclid(CHUNK_LEN) + 1) * CHUNK_LEN - 1).min(run[1]);
+                let len = end - i + 1;
                 chunks.push(BandChunk {
                     first: [i, j, k],
                     len: len as u32,
                     out: u32::try_from(out).map_err(|_| RasterError::TooManyItems(out))?,
                 });
                 out += len as usize;
-                i += len;
+                i = end + 1;
             }
         }
     }
-    Ok(chunks)
+    let tile_of = |c: &BandChunk| {
+        (
+            c.first[2].div_euclid(TILE_ROWS),
+            c.first[1].div_euclid(TILE_ROWS),
+            c.first[0].div_euclid(CHUNK_LEN),
+        )
+    };
+    chunks.par_sort_by_key(tile_of);
+    let mut tiles: Vec<BandTile> = Vec::new();
+    for (n, c) in chunks.iter().enumerate() {
+        match tiles.last_mut() {
+            Some(t) if tile_of(&chunks[t.first as usize]) == tile_of(c) => t.count += 1,
+            _ => tiles.push(BandTile {
+                first: n as u32,
+                count: 1,
+            }),
+        }
+    }
+    Ok((chunks, tiles))
 }
 
 /// Bounds tested together before any is looked at alone.
@@ -202,159 +244,182 @@ fn max(a: f32, b: f32) -> f32 {
 /// Allowance for rounding in the plane lower bound, in cells: the bound only prunes, so making it
 /// smaller can cost time but never the nearest triangle.
 const PLANE_SLACK: f32 = 1e-4;
-pub static STATS: [std::sync::atomic::AtomicUsize; 4] =
-    [const { std::sync::atomic::AtomicUsize::new(0) }; 4];
 
-/// What a chunk keeps of each gathered triangle: the parts of its lower bound that do not depend
-/// on the corner's x (structure of arrays, reused across chunks).
+/// What a tile keeps of each gathered triangle (structure of arrays, reused across tiles): its
+/// box, and its plane's signed distance at the tile's lowest corner with the plane's normal.
 #[derive(Debug, Default)]
 struct Gathered {
     slots: Vec<u32>,
-    /// Squared distance from the chunk's line to the triangle's box across y and z.
-    across: Vec<f32>,
-    min_x: Vec<f32>,
-    max_x: Vec<f32>,
-    /// Signed distance of the chunk's first corner to the triangle's plane, and its change per
-    /// step along x.
+    boxes: Vec<TriangleBox>,
     plane: Vec<f32>,
-    plane_step: Vec<f32>,
+    normal: Vec<[f32; 3]>,
+    /// Per chunk: squared distance from the chunk's line to the box across y and z, and the
+    /// plane's signed distance at the chunk's first corner.
+    across: Vec<f32>,
+    plane_at: Vec<f32>,
     bounds: Vec<f32>,
 }
 
-/// CPU twin of `kernels/distance.wgsl`: one closure call per kernel invocation (one chunk).
-fn distance_cpu(tree: &TriangleTree, chunks: &[BandChunk], bound: f32) -> Vec<Nearest> {
-    chunks
+/// CPU twin of `kernels/distance.wgsl`: one closure call per kernel invocation (one tile); the
+/// results are then placed at their chunks' output offsets.
+fn distance_cpu(
+    tree: &TriangleTree,
+    chunks: &[BandChunk],
+    tiles: &[BandTile],
+    bound: f32,
+) -> Vec<Nearest> {
+    let per_tile: Vec<Vec<Nearest>> = tiles
         .par_iter()
-        .with_min_len(16)
-        .map_init(Gathered::default, |scratch, chunk| {
-            chunk_nearest(tree, chunk, bound, scratch)
+        .map_init(Gathered::default, |scratch, tile| {
+            let own = &chunks[tile.first as usize..(tile.first + tile.count) as usize];
+            tile_nearest(tree, own, bound, scratch)
         })
-        .flat_map_iter(|(nearest, len)| nearest.into_iter().take(len))
-        .collect()
+        .collect();
+    let total = chunks.iter().map(|c| c.len as usize).sum();
+    let mut nearest = vec![
+        Nearest {
+            distance_squared: bound,
+            slot: Nearest::NONE,
+        };
+        total
+    ];
+    for (tile, results) in tiles.iter().zip(per_tile) {
+        let own = &chunks[tile.first as usize..(tile.first + tile.count) as usize];
+        let mut results = results.into_iter();
+        for chunk in own {
+            let out = chunk.out as usize;
+            for (slot, r) in nearest[out..out + chunk.len as usize].iter_mut().zip(&mut results) {
+                *slot = r;
+            }
+        }
+    }
+    nearest
 }
 
-/// The nearest triangle of each corner of `chunk` within `bound` (squared cells).
+/// The nearest triangle within `bound` (squared cells) of each corner of the chunks of one tile,
+/// chunk after chunk.
 ///
-/// The triangles whose boxes lie within the band of the chunk's segment are gathered once. For
-/// each corner a lower bound of every gathered triangle's distance is the larger of its box's and
-/// its plane's. The previous corner's nearest triangle (for the first corner, the one with the
+/// The triangles whose boxes lie within the band of the tile's box are gathered once. For each
+/// corner a lower bound of every gathered triangle's distance is the larger of its box's and its
+/// plane's. The previous corner's nearest triangle (for a chunk's first corner, the one with the
 /// least bound) is tested first, which nearly always gives the final distance, and then only
 /// triangles whose bound is below the best so far. Pruning by lower bounds cannot change the
 /// minimum found.
-fn chunk_nearest(
+fn tile_nearest(
     tree: &TriangleTree,
-    chunk: &BandChunk,
+    chunks: &[BandChunk],
     bound: f32,
     g: &mut Gathered,
-) -> ([Nearest; CHUNK_LEN as usize], usize) {
-    let mut out = [Nearest {
-        distance_squared: bound,
-        slot: Nearest::NONE,
-    }; CHUNK_LEN as usize];
-    let lo = tree.local(chunk.first);
-    let hi = [lo[0] + (chunk.len - 1) as f32, lo[1], lo[2]];
+) -> Vec<Nearest> {
+    let mut out = Vec::with_capacity(chunks.iter().map(|c| c.len as usize).sum());
+    let mut first_corner = [i32::MAX; 3];
+    let mut last_corner = [i32::MIN; 3];
+    for c in chunks {
+        for a in 0..3 {
+            first_corner[a] = first_corner[a].min(c.first[a]);
+            last_corner[a] = last_corner[a].max(c.first[a] + if a == 0 { c.len as i32 - 1 } else { 0 });
+        }
+    }
+    let lo = tree.local(first_corner);
+    let hi = tree.local(last_corner);
     g.slots.clear();
-    let complete = tree.gather(lo, hi, bound, GATHER_CAPACITY, &mut g.slots);
-    if !complete {
-        for (i, result) in out.iter_mut().enumerate().take(chunk.len as usize) {
-            let corner = [chunk.first[0] + i as i32, chunk.first[1], chunk.first[2]];
-            let (distance_squared, slot) = tree.nearest(corner, bound, Nearest::NONE);
-            *result = Nearest {
-                distance_squared,
-                slot,
-            };
+    if !tree.gather(lo, hi, bound, GATHER_CAPACITY, &mut g.slots) {
+        for c in chunks {
+            for i in 0..c.len as i32 {
+                let corner = [c.first[0] + i, c.first[1], c.first[2]];
+                let (distance_squared, slot) = tree.nearest(corner, bound, Nearest::NONE);
+                out.push(Nearest {
+                    distance_squared,
+                    slot,
+                });
+            }
         }
-        return (out, chunk.len as usize);
+        return out;
     }
-    g.across.clear();
-    g.min_x.clear();
-    g.max_x.clear();
+    g.boxes.clear();
     g.plane.clear();
-    g.plane_step.clear();
+    g.normal.clear();
     for &slot in &g.slots {
-        let b = &tree.boxes()[slot as usize];
-        let gap = |a: usize| (b.min[a] - lo[a]).max(lo[a] - b.max[a]).max(0.0);
-        g.across.push(gap(1) * gap(1) + gap(2) * gap(2));
-        g.min_x.push(b.min[0]);
-        g.max_x.push(b.max[0]);
+        g.boxes.push(tree.boxes()[slot as usize]);
         let t = &tree.triangles()[slot as usize];
-        let p: [f32; 3] = std::array::from_fn(|k| (chunk.first[k] - t.base[k]) as f32);
-        g.plane
-            .push(t.normal[0] * p[0] + t.normal[1] * p[1] + t.normal[2] * p[2] - t.offset);
-        g.plane_step.push(t.normal[0]);
+        let p: [f32; 3] = std::array::from_fn(|k| (first_corner[k] - t.base[k]) as f32);
+        g.plane.push(t.normal[0] * p[0] + t.normal[1] * p[1] + t.normal[2] * p[2] - t.offset);
+        g.normal.push(t.normal);
     }
-    g.bounds.resize(g.slots.len(), 0.0);
-    let mut hint = None;
-    STATS[0].fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    STATS[1].fetch_add(g.slots.len(), std::sync::atomic::Ordering::Relaxed);
-    STATS[2].fetch_add(chunk.len as usize, std::sync::atomic::Ordering::Relaxed);
-    for (i, result) in out.iter_mut().enumerate().take(chunk.len as usize) {
-        let x = lo[0] + i as f32;
-        let step = i as f32;
-        let corner = [chunk.first[0] + i as i32, chunk.first[1], chunk.first[2]];
-        for ((lower, (&across, (&min_x, &max_x))), (&plane, &plane_step)) in g
-            .bounds
-            .iter_mut()
-            .zip(g.across.iter().zip(g.min_x.iter().zip(&g.max_x)))
-            .zip(g.plane.iter().zip(&g.plane_step))
-        {
-            let gap = max(max(min_x - x, x - max_x), 0.0);
-            let to_plane = max((plane + plane_step * step).abs() - PLANE_SLACK, 0.0);
-            *lower = max(across + gap * gap, to_plane * to_plane);
+    for c in chunks {
+        let start = tree.local(c.first);
+        let offset: [f32; 3] = std::array::from_fn(|k| (c.first[k] - first_corner[k]) as f32);
+        g.across.clear();
+        g.plane_at.clear();
+        for ((b, &plane), n) in g.boxes.iter().zip(&g.plane).zip(&g.normal) {
+            let gap = |a: usize| max(max(b.min[a] - start[a], start[a] - b.max[a]), 0.0);
+            g.across.push(gap(1) * gap(1) + gap(2) * gap(2));
+            g.plane_at.push(plane + n[0] * offset[0] + n[1] * offset[1] + n[2] * offset[2]);
         }
-        // The previous corner's nearest triangle, or else the one with the least bound.
-        let first = match if std::env::var_os("ARGMIN").is_some() {
-            None
-        } else {
-            hint
-        } {
-            Some(k) => k,
-            None => {
-                let mut first = 0;
-                let mut least = f32::INFINITY;
-                for (k, &lower) in g.bounds.iter().enumerate() {
-                    if lower < least {
-                        least = lower;
-                        first = k;
+        g.bounds.resize(g.slots.len(), 0.0);
+        let mut hint = None;
+        for i in 0..c.len as i32 {
+            let x = start[0] + i as f32;
+            let step = i as f32;
+            let corner = [c.first[0] + i, c.first[1], c.first[2]];
+            for ((lower, (&across, b)), (&plane, n)) in g
+                .bounds
+                .iter_mut()
+                .zip(g.across.iter().zip(&g.boxes))
+                .zip(g.plane_at.iter().zip(&g.normal))
+            {
+                let gap = max(max(b.min[0] - x, x - b.max[0]), 0.0);
+                let to_plane = max((plane + n[0] * step).abs() - PLANE_SLACK, 0.0);
+                *lower = max(across + gap * gap, to_plane * to_plane);
+            }
+            // The previous corner's nearest triangle, or else the one with the least bound.
+            let first = match hint {
+                Some(k) => k,
+                None => {
+                    let mut first = 0;
+                    let mut least = f32::INFINITY;
+                    for (k, &lower) in g.bounds.iter().enumerate() {
+                        if lower < least {
+                            least = lower;
+                            first = k;
+                        }
                     }
+                    first
                 }
-                first
-            }
-        };
-        let mut best = bound;
-        let mut found = None;
-        if g.bounds.get(first).is_some_and(|&lower| lower < best) {
-            let d = tree.triangles()[g.slots[first] as usize].distance_squared(corner);
-            if d < best {
-                best = d;
-                found = Some(first);
-            }
-        }
-        // Blocks whose bounds all reach the best so far are skipped with one vector test.
-        for (b, block) in g.bounds.chunks(SKIP_BLOCK).enumerate() {
-            if !block.iter().fold(false, |any, &lower| any | (lower < best)) {
-                continue;
-            }
-            for (j, &lower) in block.iter().enumerate() {
-                let k = b * SKIP_BLOCK + j;
-                if lower < best && k != first {
-                    STATS[3].fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    let d = tree.triangles()[g.slots[k] as usize].distance_squared(corner);
-                    if d < best {
-                        best = d;
-                        found = Some(k);
-                    }
+            };
+            let mut best = bound;
+            let mut found = None;
+            if g.bounds.get(first).is_some_and(|&lower| lower < best) {
+                let d = tree.triangles()[g.slots[first] as usize].distance_squared(corner);
+                if d < best {
+                    best = d;
+                    found = Some(first);
                 }
             }
+            // Blocks whose bounds all reach the best so far are skipped with one vector test.
+            for (b, block) in g.bounds.chunks(SKIP_BLOCK).enumerate() {
+                if !block.iter().fold(false, |any, &lower| any | (lower < best)) {
+                    continue;
+                }
+                for (j, &lower) in block.iter().enumerate() {
+                    let k = b * SKIP_BLOCK + j;
+                    if lower < best && k != first {
+                        let d = tree.triangles()[g.slots[k] as usize].distance_squared(corner);
+                        if d < best {
+                            best = d;
+                            found = Some(k);
+                        }
+                    }
+                }
+            }
+            hint = found;
+            out.push(Nearest {
+                distance_squared: best,
+                slot: found.map_or(Nearest::NONE, |k| g.slots[k]),
+            });
         }
-        hint = found;
-        let found = found.map_or(Nearest::NONE, |k| g.slots[k]);
-        *result = Nearest {
-            distance_squared: best,
-            slot: found,
-        };
     }
-    (out, chunk.len as usize)
+    out
 }
 
 /// Keeps the candidates within the band, in row order, with the sweep's sign.
@@ -371,11 +436,7 @@ fn sign_and_keep(
     let mut n = 0usize;
     for r in 0..rows.keys.len() {
         offsets.push(n);
-        n += rows
-            .of(r)
-            .iter()
-            .map(|run| (run[1] - run[0] + 1) as usize)
-            .sum::<usize>();
+        n += rows.of(r).iter().map(|run| (run[1] - run[0] + 1) as usize).sum::<usize>();
     }
     offsets.push(n);
     let kept: Vec<Vec<([i32; 3], f32, u32)>> = (0..rows.keys.len())
@@ -383,10 +444,7 @@ fn sign_and_keep(
         .with_min_len(8)
         .map(|r| {
             let [k, j] = rows.keys[r];
-            let runs = windings.on_line(&GridLine {
-                axis: 0,
-                at: [j, k],
-            });
+            let runs = windings.on_line(&GridLine { axis: 0, at: [j, k] });
             let mut next_run = 0;
             let mut winding = 0;
             let corners = rows.of(r).iter().flat_map(|run| run[0]..=run[1]);

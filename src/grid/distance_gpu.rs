@@ -4,7 +4,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::RasterError;
-use super::distance::{BandChunk, Nearest};
+use super::distance::{BandChunk, BandTile, Nearest};
 use super::triangle_tree::TriangleTree;
 use crate::compute::GpuContext;
 use crate::compute::registry::{GpuStructLayout, SharedWgsl};
@@ -32,7 +32,7 @@ impl DistanceParams {
     };
 }
 
-/// A triangle tree and chunks of candidate corners uploaded for `kernels/distance.wgsl`.
+/// A triangle tree and tiles of candidate corners uploaded for `kernels/distance.wgsl`.
 #[derive(Debug)]
 pub(crate) struct GpuDistance {
     buffers: Option<Buffers>,
@@ -45,22 +45,25 @@ struct Buffers {
     triangles: wgpu::Buffer,
     boxes: wgpu::Buffer,
     chunks: wgpu::Buffer,
+    tiles: wgpu::Buffer,
     nearest: wgpu::Buffer,
-    chunk_count: usize,
+    tile_count: usize,
     corner_count: usize,
 }
 
 impl GpuDistance {
-    /// Uploads the tree and the chunks of candidate corners.
+    /// Uploads the tree and the tiles of candidate corners (chunks in tile order).
     pub(crate) fn upload(
         context: &GpuContext,
         tree: &TriangleTree,
         chunks: &[BandChunk],
+        tiles: &[BandTile],
         bound: f32,
     ) -> Result<Self, RasterError> {
-        let Some(last) = chunks.last() else {
+        if tiles.is_empty() {
             return Ok(Self { buffers: None });
-        };
+        }
+        let corner_count = chunks.iter().map(|c| c.len as usize).sum();
         let params = DistanceParams {
             base: tree.base(),
             bound,
@@ -72,9 +75,10 @@ impl GpuDistance {
                 triangles: context.upload("triangles", tree.triangles())?,
                 boxes: context.upload("boxes", tree.boxes())?,
                 chunks: context.upload("chunks", chunks)?,
-                nearest: context.output::<Nearest>("nearest", (last.out + last.len) as usize)?,
-                chunk_count: chunks.len(),
-                corner_count: (last.out + last.len) as usize,
+                tiles: context.upload("tiles", tiles)?,
+                nearest: context.output::<Nearest>("nearest", corner_count)?,
+                tile_count: tiles.len(),
+                corner_count,
             }),
         })
     }
@@ -92,14 +96,15 @@ impl GpuDistance {
                 &b.triangles,
                 &b.boxes,
                 &b.chunks,
+                &b.tiles,
                 &b.nearest,
             ],
-            b.chunk_count as u64,
+            b.tile_count as u64,
         )?;
         Ok(())
     }
 
-    /// The nearest triangle of every corner, chunk after chunk.
+    /// The nearest triangle of every corner, at its chunk's output offset.
     pub fn read(&self, context: &GpuContext) -> Result<Vec<Nearest>, RasterError> {
         let Some(b) = &self.buffers else {
             return Ok(Vec::new());

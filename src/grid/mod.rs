@@ -29,7 +29,7 @@ mod sweep_gpu;
 mod triangle_tree;
 
 pub use crossing::GridCrossing;
-pub use distance::{BandChunk, NarrowBand, Nearest, STATS, signed_distance};
+pub use distance::{BandChunk, BandTile, NarrowBand, Nearest, signed_distance};
 pub use distance_gpu::DistanceParams;
 pub use lattice::{
     CELL_UNITS, FRACTION_BITS, GridFrame, LatticeMesh, LatticePoint, MAX_CELL_INDEX,

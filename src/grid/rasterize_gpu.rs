@@ -39,8 +39,7 @@ impl GpuRasterize {
         let mut offsets = Vec::with_capacity(counts.len() + 1);
         let mut total = 0u64;
         for c in counts {
-            offsets
-                .push(u32::try_from(total).map_err(|_| RasterError::TooManyItems(total as usize))?);
+            offsets.push(u32::try_from(total).map_err(|_| RasterError::TooManyItems(total as usize))?);
             total += c;
         }
         let candidates =
@@ -62,7 +61,7 @@ impl GpuRasterize {
     }
 
     /// Submits the kernel; [`Self::read`] waits for it. Each dispatch appends to the output, so a
-    /// job is dispatched once (or its counter reset with [`Self::reset`]).
+    /// job is dispatched once.
     pub fn dispatch(&self, context: &GpuContext) -> Result<(), RasterError> {
         let Some(b) = &self.buffers else {
             return Ok(());
@@ -73,15 +72,6 @@ impl GpuRasterize {
             u64::from(b.candidates),
         )?;
         Ok(())
-    }
-
-    /// Zeroes the crossing counter so the job can be dispatched again.
-    pub fn reset(&self, context: &GpuContext) {
-        if let Some(b) = &self.buffers {
-            context
-                .queue()
-                .write_buffer(&b.count, 0, bytemuck::bytes_of(&0u32));
-        }
     }
 
     /// The crossings, in the order the GPU appended them.

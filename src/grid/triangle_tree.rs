@@ -9,6 +9,7 @@
 //! right after its parent.
 
 use bytemuck::{Pod, Zeroable};
+use rayon::prelude::*;
 
 use super::lattice::{CELL_UNITS, LatticeMesh, LatticePoint};
 use crate::compute::registry::{GpuStructLayout, SharedWgsl};
@@ -83,7 +84,6 @@ impl TreeTriangle {
     };
 
     /// Squared distance in cells from grid corner `corner`; the body the distance kernel shares.
-    #[inline]
     pub fn distance_squared(&self, corner: [i32; 3]) -> f32 {
         let p: [f32; 3] = std::array::from_fn(|k| (corner[k] - self.base[k]) as f32);
         point_triangle_distance_squared(p, self.a, self.b, self.c)
@@ -127,63 +127,59 @@ pub struct TriangleTree {
     boxes: Vec<TriangleBox>,
 }
 
-/// One triangle while building: its box in f64 cells from the tree's base, and its centroid.
+/// One triangle while building: its index and the centre of its box.
 #[derive(Clone, Copy)]
 struct Item {
     id: u32,
-    min: [f64; 3],
-    max: [f64; 3],
-    centroid: [f64; 3],
+    centroid: [f32; 3],
 }
+
+/// Subtrees with more triangles than this build their halves in parallel.
+const PARALLEL_BUILD: usize = 4096;
 
 impl TriangleTree {
     pub fn build(mesh: &LatticeMesh) -> Self {
         let points = mesh.points();
-        let base: [i32; 3] =
-            std::array::from_fn(|a| points.iter().map(|p| p.cell[a]).min().unwrap_or(0));
+        let base: [i32; 3] = std::array::from_fn(|a| {
+            points.iter().map(|p| p.cell[a]).min().unwrap_or(0)
+        });
         let coordinate = |p: &LatticePoint, a: usize| {
             f64::from(p.cell[a] - base[a]) + f64::from(p.frac[a]) / CELL_UNITS as f64
         };
-        let mut items: Vec<Item> = mesh
+        let boxes_by_id: Vec<TriangleBox> = mesh
             .triangles()
+            .par_iter()
+            .map(|tri| {
+                let p = tri.map(|v| points[v as usize]);
+                let min: [f64; 3] = std::array::from_fn(|a| {
+                    p.iter().map(|q| coordinate(q, a)).fold(f64::INFINITY, f64::min)
+                });
+                let max: [f64; 3] = std::array::from_fn(|a| {
+                    p.iter().map(|q| coordinate(q, a)).fold(f64::NEG_INFINITY, f64::max)
+                });
+                TriangleBox {
+                    min: min.map(round_down),
+                    max: max.map(round_up),
+                }
+            })
+            .collect();
+        let mut items: Vec<Item> = boxes_by_id
             .iter()
             .enumerate()
-            .map(|(t, tri)| {
-                let p = tri.map(|v| points[v as usize]);
-                let min = std::array::from_fn(|a| {
-                    p.iter()
-                        .map(|q| coordinate(q, a))
-                        .fold(f64::INFINITY, f64::min)
-                });
-                let max = std::array::from_fn(|a| {
-                    p.iter()
-                        .map(|q| coordinate(q, a))
-                        .fold(f64::NEG_INFINITY, f64::max)
-                });
-                let centroid = std::array::from_fn(|a| (min[a] + max[a]) * 0.5);
-                Item {
-                    id: t as u32,
-                    min,
-                    max,
-                    centroid,
-                }
+            .map(|(t, b)| Item {
+                id: t as u32,
+                centroid: std::array::from_fn(|a| (b.min[a] + b.max[a]) * 0.5),
             })
             .collect();
         let mut nodes = vec![TreeNode::zeroed(); node_count(items.len())];
         if !items.is_empty() {
-            build_node(&mut items, &mut nodes, 0, 0);
+            build_node(&mut items, &boxes_by_id, &mut nodes, 0, 0);
         }
         let triangles = items
-            .iter()
+            .par_iter()
             .map(|item| tree_triangle(mesh, item.id))
             .collect();
-        let boxes = items
-            .iter()
-            .map(|item| TriangleBox {
-                min: item.min.map(round_down),
-                max: item.max.map(round_up),
-            })
-            .collect();
+        let boxes = items.iter().map(|item| boxes_by_id[item.id as usize]).collect();
         Self {
             base,
             nodes,
@@ -334,16 +330,26 @@ fn node_count(n: usize) -> usize {
 /// Writes the subtree over `items` into `nodes`, whose first entry is node number `at`, with leaf
 /// slots from `first`, reordering `items` into leaf order. Halves are built in parallel; the layout
 /// is fixed by the counts alone, so it does not depend on the thread count.
-fn build_node(items: &mut [Item], nodes: &mut [TreeNode], at: usize, first: usize) {
-    let min: [f64; 3] =
-        std::array::from_fn(|a| items.iter().map(|i| i.min[a]).fold(f64::INFINITY, f64::min));
-    let max: [f64; 3] = std::array::from_fn(|a| {
-        items
-            .iter()
-            .map(|i| i.max[a])
-            .fold(f64::NEG_INFINITY, f64::max)
-    });
-    let (min, max) = (min.map(round_down), max.map(round_up));
+fn build_node(
+    items: &mut [Item],
+    boxes: &[TriangleBox],
+    nodes: &mut [TreeNode],
+    at: usize,
+    first: usize,
+) {
+    let mut min = [f32::INFINITY; 3];
+    let mut max = [f32::NEG_INFINITY; 3];
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for item in items.iter() {
+        let b = &boxes[item.id as usize];
+        for a in 0..3 {
+            min[a] = min[a].min(b.min[a]);
+            max[a] = max[a].max(b.max[a]);
+            lo[a] = lo[a].min(item.centroid[a]);
+            hi[a] = hi[a].max(item.centroid[a]);
+        }
+    }
     if items.len() <= LEAF_SIZE {
         nodes[0] = TreeNode {
             min,
@@ -353,15 +359,6 @@ fn build_node(items: &mut [Item], nodes: &mut [TreeNode], at: usize, first: usiz
         };
         return;
     }
-    let (lo, hi) = items.iter().fold(
-        ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
-        |(lo, hi), i| {
-            (
-                std::array::from_fn(|a| lo[a].min(i.centroid[a])),
-                std::array::from_fn(|a| hi[a].max(i.centroid[a])),
-            )
-        },
-    );
     let axis = (0..3)
         .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))
         .unwrap_or(0);
@@ -380,22 +377,24 @@ fn build_node(items: &mut [Item], nodes: &mut [TreeNode], at: usize, first: usiz
     };
     let (left_items, right_items) = items.split_at_mut(half);
     let (left, right) = nodes[1..].split_at_mut(left_nodes);
-    if left_items.len() > 4096 {
+    let right_at = at + 1 + left_nodes;
+    if left_items.len() > PARALLEL_BUILD {
         rayon::join(
-            || build_node(left_items, left, at + 1, first),
-            || build_node(right_items, right, at + 1 + left_nodes, first + half),
+            || build_node(left_items, boxes, left, at + 1, first),
+            || build_node(right_items, boxes, right, right_at, first + half),
         );
     } else {
-        build_node(left_items, left, at + 1, first);
-        build_node(right_items, right, at + 1 + left_nodes, first + half);
+        build_node(left_items, boxes, left, at + 1, first);
+        build_node(right_items, boxes, right, right_at, first + half);
     }
 }
 
 /// Triangle `t` with its corners as offsets from its lowest cell.
 fn tree_triangle(mesh: &LatticeMesh, t: u32) -> TreeTriangle {
     let corners = mesh.corners(t as usize);
-    let base: [i32; 3] =
-        std::array::from_fn(|a| corners.iter().map(|p| p.cell[a]).min().unwrap_or(0));
+    let base: [i32; 3] = std::array::from_fn(|a| {
+        corners.iter().map(|p| p.cell[a]).min().unwrap_or(0)
+    });
     let local = |p: &LatticePoint| -> [f64; 3] {
         std::array::from_fn(|a| {
             f64::from(p.cell[a] - base[a]) + f64::from(p.frac[a]) / CELL_UNITS as f64
@@ -466,7 +465,6 @@ fn along(a: [f32; 3], d: [f32; 3], s: f32) -> [f32; 3] {
 /// and face (Ericson, Real-Time Collision Detection §5.1.5). Each division is guarded by its
 /// denominator's sign and a degenerate triangle falls through to its edges, so the result is always
 /// finite.
-#[inline]
 pub(crate) fn point_triangle_distance_squared(
     p: [f32; 3],
     a: [f32; 3],

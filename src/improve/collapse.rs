@@ -7,10 +7,10 @@
 //! behind, which the queue then fixes like any other, and guarding it blocks more fixes than it saves.
 
 use super::deviation::within;
-use super::geometry::{dihedral_degrees, face_normal};
+use super::geometry::{face_normal, folds_beyond};
 use super::params::Limits;
 use super::report::Refusal;
-use crate::mesh::{HalfEdgeId, Mesh};
+use crate::mesh::{HalfEdgeId, Mesh, VertexId};
 use glam::Vec3;
 
 /// A face of the fan the collapse creates around the new vertex `m`: `(m, x, y)`, its normal, and the
@@ -23,24 +23,22 @@ struct FanFace {
     outside: Vec3,
 }
 
-/// Where a collapse of `h` would put the new vertex, or why the collapse is refused.
-pub(super) fn check_collapse(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<Vec3, Refusal> {
+/// Whether the edge of `h` may be collapsed to its midpoint.
+pub(super) fn check_collapse(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<(), Refusal> {
     let t = mesh.twin(h);
     let (a, b) = (mesh.origin(h), mesh.target(h));
     let (c, d) = (mesh.origin(mesh.prev(h)), mesh.origin(mesh.prev(t)));
     if mesh.valence(c) <= 3 || mesh.valence(d) <= 3 {
         return Err(Refusal::Valence);
     }
-    let shared = mesh
-        .neighbours(b)
-        .filter(|&v| mesh.neighbours(a).any(|u| u == v))
-        .count();
+    let ring: Vec<VertexId> = mesh.neighbours(a).collect();
+    let shared = mesh.neighbours(b).filter(|v| ring.contains(v)).count();
     if shared != 2 {
         return Err(Refusal::LinkCondition);
     }
     let m = (mesh.position(a) + mesh.position(b)) * 0.5;
     let (fa, fb) = (mesh.face(h), mesh.face(t));
-    let mut old = vec![mesh.face_positions(fa), mesh.face_positions(fb)];
+    let mut old = Vec::with_capacity(mesh.valence(a) + mesh.valence(b));
     let mut fan = Vec::with_capacity(mesh.valence(a) + mesh.valence(b));
     for e in mesh.outgoing(a).chain(mesh.outgoing(b)) {
         let f = mesh.face(e);
@@ -70,14 +68,15 @@ pub(super) fn check_collapse(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Res
     for f in &fan {
         let next = fan.iter().find(|g| g.x == f.y).map(|g| g.normal);
         for other in [Some(f.outside), next].into_iter().flatten() {
-            if dihedral_degrees(f.normal, other).is_none_or(|angle| angle < limits.min_dihedral) {
+            if folds_beyond(f.normal, other, limits.cos_min_dihedral) {
                 return Err(Refusal::SharpDihedral);
             }
         }
     }
+    old.extend([mesh.face_positions(fa), mesh.face_positions(fb)]);
     let new: Vec<[Vec3; 3]> = fan.iter().map(|f| f.corners).collect();
     if !within(&new, &old, limits.deviation) {
         return Err(Refusal::Deviation);
     }
-    Ok(m)
+    Ok(())
 }

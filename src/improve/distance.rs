@@ -1,11 +1,18 @@
 //! Exact point–triangle distance (Ericson, "Real-Time Collision Detection" §5.1.5): the closest point
 //! is found by the Voronoi region of the triangle the point projects into, so it is exact for every
-//! triangle, degenerate ones included.
+//! triangle, degenerate ones included. The work is done in f64: marching-cubes slivers make the
+//! barycentric denominators tiny, and f32 would misplace the closest point by far more than rounding.
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
+
+/// Distance from `p` to triangle `(a, b, c)`.
+pub fn point_triangle_distance(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> f32 {
+    let [p, a, b, c] = [p, a, b, c].map(|v| v.as_dvec3());
+    p.distance(closest(p, a, b, c)) as f32
+}
 
 /// The point of triangle `(a, b, c)` closest to `p`.
-pub fn closest_point_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
+fn closest(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> DVec3 {
     let ab = b - a;
     let ac = c - a;
     let ap = p - a;
@@ -47,15 +54,10 @@ pub fn closest_point_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
     a + ab * v + ac * w
 }
 
-/// Distance from `p` to triangle `(a, b, c)`.
-pub fn point_triangle_distance(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> f32 {
-    p.distance(closest_point_on_triangle(p, a, b, c))
-}
-
 /// Closest point on the three edges: the answer for a triangle whose area rounds to zero, where the
 /// face region's barycentric weights are meaningless.
-fn nearest_on_edges(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
-    let on_segment = |s: Vec3, e: Vec3| {
+fn nearest_on_edges(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> DVec3 {
+    let on_segment = |s: DVec3, e: DVec3| {
         let d = e - s;
         let len2 = d.length_squared();
         if len2 == 0.0 {

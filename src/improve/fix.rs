@@ -35,27 +35,34 @@ impl Fix {
 /// The operations that could fix the element of `task` located at `h`, most preferred first. A small
 /// angle is opposite the shortest edge: collapsing that edge removes the triangle; a triangle with
 /// one huge angle (a "cap") is better served by flipping its longest edge.
-pub(super) fn candidates(mesh: &Mesh, task: &Task, h: HalfEdgeId, limits: &Limits) -> Vec<Fix> {
+pub(super) fn candidates<'a>(
+    mesh: &'a Mesh,
+    task: &Task,
+    h: HalfEdgeId,
+    limits: &'a Limits,
+) -> Box<dyn Iterator<Item = Fix> + 'a> {
+    let later = |e: HalfEdgeId| std::iter::once(()).flat_map(move |()| removals(mesh, e, limits));
     match task.kind {
-        Kind::ShortEdge => {
-            let mut fixes = vec![Fix::Collapse(h)];
-            fixes.extend(removals(mesh, h, limits));
-            fixes.extend([h, mesh.twin(h)].map(|e| Fix::Split(longest_edge(mesh, e))));
-            fixes
-        }
-        Kind::SharpDihedral => vec![Fix::Collapse(h), Fix::Flip(h)],
+        Kind::ShortEdge => Box::new(
+            std::iter::once(Fix::Collapse(h))
+                .chain(later(h))
+                .chain([h, mesh.twin(h)].map(|e| Fix::Split(longest_edge(mesh, e)))),
+        ),
+        Kind::SharpDihedral => Box::new([Fix::Collapse(h), Fix::Flip(h)].into_iter()),
         Kind::SmallAngle => {
             let mut edges = [h, mesh.next(h), mesh.prev(h)];
             edges.sort_by(|&x, &y| length(mesh, x).total_cmp(&length(mesh, y)));
             let [shortest, middle, longest] = edges;
-            let mut fixes = vec![Fix::Flip(longest), Fix::Collapse(shortest)];
-            fixes.extend(removals(mesh, shortest, limits));
-            fixes.extend([
-                Fix::Collapse(middle),
-                Fix::Flip(middle),
-                Fix::Split(longest),
-            ]);
-            fixes
+            Box::new(
+                [Fix::Flip(longest), Fix::Collapse(shortest)]
+                    .into_iter()
+                    .chain(later(shortest))
+                    .chain([
+                        Fix::Collapse(middle),
+                        Fix::Flip(middle),
+                        Fix::Split(longest),
+                    ]),
+            )
         }
     }
 }
@@ -101,36 +108,35 @@ fn longest_edge(mesh: &Mesh, h: HalfEdgeId) -> HalfEdgeId {
 pub(super) fn check(mesh: &Mesh, fix: Fix, limits: &Limits) -> Result<(), Refusal> {
     match fix {
         Fix::Flip(h) => check_flip(mesh, h, limits),
-        Fix::Collapse(h) => check_collapse(mesh, h, limits).map(|_| ()),
+        Fix::Collapse(h) => check_collapse(mesh, h, limits),
         Fix::Split(h) => check_split(mesh, h, limits),
     }
 }
 
-/// Performs `fix` when its checks pass; returns the faces it created.
-fn apply(
-    mesh: &mut Mesh,
-    fix: Fix,
-    limits: &Limits,
-    report: &mut ImproveReport,
-) -> Option<Vec<FaceId>> {
+/// Performs a fix whose checks passed; returns the faces it created, or `None` when the mesh itself
+/// refuses (a face would be degenerate).
+fn apply(mesh: &mut Mesh, fix: Fix, report: &mut ImproveReport) -> Option<Vec<FaceId>> {
     let created = match fix {
-        Fix::Flip(h) => check_flip(mesh, h, limits).and_then(|()| {
-            let e = mesh.flip(h).ok_or(Refusal::Degenerate)?;
+        Fix::Flip(h) => mesh.flip(h).map(|e| {
             report.flips += 1;
-            Ok(vec![mesh.face(e), mesh.face(mesh.twin(e))])
+            vec![mesh.face(e), mesh.face(mesh.twin(e))]
         }),
-        Fix::Collapse(h) => check_collapse(mesh, h, limits).and_then(|position| {
-            let m = mesh.collapse(h, position).ok_or(Refusal::Degenerate)?;
-            report.collapses += 1;
-            Ok(mesh.outgoing(m).map(|e| mesh.face(e)).collect())
-        }),
-        Fix::Split(h) => check_split(mesh, h, limits).and_then(|()| {
-            let m = mesh.split_edge(h, 0.5).ok_or(Refusal::Degenerate)?;
+        Fix::Collapse(h) => {
+            let midpoint = (mesh.position(mesh.origin(h)) + mesh.position(mesh.target(h))) * 0.5;
+            mesh.collapse(h, midpoint).map(|m| {
+                report.collapses += 1;
+                mesh.outgoing(m).map(|e| mesh.face(e)).collect()
+            })
+        }
+        Fix::Split(h) => mesh.split_edge(h, 0.5).map(|m| {
             report.splits += 1;
-            Ok(mesh.outgoing(m).map(|e| mesh.face(e)).collect())
+            mesh.outgoing(m).map(|e| mesh.face(e)).collect()
         }),
     };
-    created.map_err(|reason| report.refused(reason)).ok()
+    if created.is_none() {
+        report.refused(Refusal::Degenerate);
+    }
+    created
 }
 
 /// Works the queue of bad elements until it is empty; returns the number of operations performed.
@@ -139,7 +145,7 @@ pub(super) fn fix_bad_elements(
     limits: &Limits,
     report: &mut ImproveReport,
 ) -> usize {
-    let mut queue: Queue = scan(mesh, limits).into_iter().collect();
+    let mut queue = Queue::new(scan(mesh, limits));
     let mut done = 0;
     while let Some(task) = queue.pop() {
         let Some(h) = task.locate(mesh) else {
@@ -148,10 +154,12 @@ pub(super) fn fix_bad_elements(
         if !still_bad(mesh, &task, h, limits) {
             continue;
         }
-        let changed = candidates(mesh, &task, h, limits)
-            .into_iter()
-            .find_map(|fix| apply(mesh, fix, limits, report));
-        if let Some(faces) = changed {
+        let chosen = candidates(mesh, &task, h, limits).find(|&fix| {
+            check(mesh, fix, limits)
+                .map_err(|reason| report.refused(reason))
+                .is_ok()
+        });
+        if let Some(faces) = chosen.and_then(|fix| apply(mesh, fix, report)) {
             done += 1;
             rescan(mesh, &faces, limits, &mut |t| queue.push(t));
         }

@@ -4,15 +4,15 @@
 //! element and only kept when they raise the smallest angle of the pair.
 
 use super::deviation::within;
-use super::geometry::{dihedral_degrees, face_normal, min_angle};
+use super::geometry::{face_normal, folds_beyond, min_angle_sine};
 use super::params::Limits;
 use super::report::Refusal;
 use crate::mesh::{HalfEdgeId, Mesh};
 use glam::Vec3;
 
-/// A flip must raise the pair's smallest angle by at least this much (degrees), so rounding can never
-/// make two flips undo each other.
-const MIN_GAIN_DEGREES: f32 = 1e-3;
+/// A flip must raise the sine of the pair's smallest angle by at least this much (about 0.001° at
+/// the angle limit), so rounding can never make two flips undo each other.
+const MIN_GAIN: f32 = 1e-5;
 
 /// Whether the edge of `h`, between faces `(a, b, c)` and `(b, a, d)`, may be flipped to `(c, d)`.
 pub(super) fn check_flip(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<(), Refusal> {
@@ -27,9 +27,9 @@ pub(super) fn check_flip(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<
     }
     let [pa, pb, pc, pd] = [a, b, c, d].map(|v| mesh.position(v));
     let old = [[pa, pb, pc], [pb, pa, pd]];
-    let new = [[pc, pa, pd], [pd, pb, pc]];
-    let worst = |faces: &[[Vec3; 3]; 2]| min_angle(faces[0]).min(min_angle(faces[1]));
-    if worst(&new) < worst(&old) + MIN_GAIN_DEGREES {
+    let new = [[pd, pc, pa], [pc, pd, pb]];
+    let worst = |faces: &[[Vec3; 3]; 2]| min_angle_sine(faces[0]).min(min_angle_sine(faces[1]));
+    if worst(&new) < worst(&old) + MIN_GAIN {
         return Err(Refusal::NoGain);
     }
     let old_normals = old.map(face_normal);
@@ -44,6 +44,8 @@ pub(super) fn check_flip(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<
         return Err(Refusal::LongEdge);
     }
     let beyond = |e: HalfEdgeId| face_normal(mesh.face_positions(mesh.face(mesh.twin(e))));
+    // new[0] = (d, c, a) borders the faces beyond (c, a) and (a, d); new[1] = (c, d, b) those
+    // beyond (d, b) and (b, c).
     let pairs = [
         (new_normals[0], new_normals[1]),
         (new_normals[0], beyond(mesh.prev(h))),
@@ -53,7 +55,7 @@ pub(super) fn check_flip(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<
     ];
     if pairs
         .iter()
-        .any(|&(n, m)| dihedral_degrees(n, m).is_none_or(|angle| angle < limits.min_dihedral))
+        .any(|&(n, m)| folds_beyond(n, m, limits.cos_min_dihedral))
     {
         return Err(Refusal::SharpDihedral);
     }

@@ -19,6 +19,20 @@ pub(super) fn dihedral_degrees(first: Vec3, second: Vec3) -> Option<f32> {
     (n > 0.0).then(|| 180.0 - (first.dot(second) / n).clamp(-1.0, 1.0).acos().to_degrees())
 }
 
+/// Sine of the smallest interior angle: twice the area over the product of the two longest edges.
+/// The smallest angle is at most 60°, where the sine grows with the angle, so comparing sines
+/// compares smallest angles without inverse trigonometry.
+pub(super) fn min_angle_sine([a, b, c]: [Vec3; 3]) -> f32 {
+    let mut l = [a.distance(b), b.distance(c), c.distance(a)];
+    l.sort_by(f32::total_cmp);
+    let product = l[1] * l[2];
+    if product > 0.0 {
+        (b - a).cross(c - a).length() / product
+    } else {
+        0.0
+    }
+}
+
 /// Shortest and longest edge of a triangle.
 pub(super) fn edge_extremes([a, b, c]: [Vec3; 3]) -> (f32, f32) {
     let l = [a.distance(b), b.distance(c), c.distance(a)];
@@ -30,4 +44,22 @@ pub(super) fn edge_extremes([a, b, c]: [Vec3; 3]) -> (f32, f32) {
 pub(super) fn fails(p: [Vec3; 3], min_angle_degrees: f32, edge_ratio: f32) -> bool {
     let (shortest, longest) = edge_extremes(p);
     min_angle(p) < min_angle_degrees || longest > edge_ratio * shortest
+}
+
+/// Whether some interior angle's cosine exceeds `cos_limit` (the angle is smaller than the limit),
+/// without trigonometry: the cheap filter before an angle is measured.
+pub(super) fn has_angle_below(p: [Vec3; 3], cos_limit: f32) -> bool {
+    (0..3).any(|k| {
+        let (e1, e2) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
+        let d = e1.dot(e2);
+        d > 0.0 && d * d > cos_limit * cos_limit * e1.length_squared() * e2.length_squared()
+    })
+}
+
+/// Whether two face normals meet at a dihedral angle below the one whose cosine is `cos_limit`
+/// (the normals are more than 180° minus that angle apart), without inverse trigonometry. A face
+/// without a normal folds onto anything.
+pub(super) fn folds_beyond(first: Vec3, second: Vec3, cos_limit: f32) -> bool {
+    let n = (first.length_squared() * second.length_squared()).sqrt();
+    n == 0.0 || first.dot(second) < -cos_limit * n
 }

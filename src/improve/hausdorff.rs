@@ -7,6 +7,10 @@ use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 use std::collections::HashMap;
 
+/// Rings searched before a query far from the surface falls back to every triangle: the shell of
+/// ring `r` has about `24 r²` cells, so beyond a few rings the grid stops paying for itself.
+const MAX_RING: i32 = 4;
+
 /// Triangles of a mesh bucketed by the grid cells their bounding boxes overlap.
 pub struct SurfaceDistance<'a> {
     mesh: &'a IndexedMesh,
@@ -51,7 +55,8 @@ impl<'a> SurfaceDistance<'a> {
     }
 
     /// Distance from `p` to the nearest triangle (∞ for a mesh without triangles). Rings of cells are
-    /// searched outward until no unsearched cell can hold anything closer.
+    /// searched outward until the nearest triangle found is closer than anything outside the searched
+    /// block of cells can be.
     pub fn distance(&self, p: Vec3) -> f32 {
         if self.buckets.is_empty() {
             return f32::INFINITY;
@@ -62,18 +67,30 @@ impl<'a> SurfaceDistance<'a> {
             .max(self.hi - center)
             .max_element()
             .max(0);
-        let mut best = f32::INFINITY;
-        for ring in 0..=last_ring {
-            for tris in self.ring(center, ring) {
-                for &t in tris {
+        let below = p - center.as_vec3() * self.cell;
+        let above = (center + IVec3::ONE).as_vec3() * self.cell - p;
+        let margin = below.min(above).min_element().max(0.0);
+        let nearest = |tris: &[u32]| {
+            tris.iter()
+                .map(|&t| {
                     let [a, b, c] =
                         self.mesh.triangles[t as usize].map(|v| self.mesh.positions[v as usize]);
-                    best = best.min(point_triangle_distance(p, a, b, c));
-                }
+                    point_triangle_distance(p, a, b, c)
+                })
+                .fold(f32::INFINITY, f32::min)
+        };
+        let mut best = f32::INFINITY;
+        for ring in 0..=last_ring.min(MAX_RING) {
+            for tris in self.ring(center, ring) {
+                best = best.min(nearest(tris));
             }
-            if best <= ring as f32 * self.cell {
-                break;
+            if best <= margin + ring as f32 * self.cell {
+                return best;
             }
+        }
+        if last_ring > MAX_RING {
+            let all: Vec<u32> = (0..self.mesh.triangles.len() as u32).collect();
+            best = best.min(nearest(&all));
         }
         best
     }

@@ -24,7 +24,7 @@ mod scan;
 mod split;
 
 pub use assess::{ANGLE_BUCKETS, Assessment, LENGTH_BUCKETS, TriangleQuality, assess};
-pub use distance::{closest_point_on_triangle, point_triangle_distance};
+pub use distance::point_triangle_distance;
 pub use error::ImproveError;
 pub use hausdorff::{SurfaceDistance, one_sided_hausdorff};
 pub use params::ImproveParams;
@@ -36,8 +36,12 @@ use queue::Kind;
 
 /// Improves `mesh` in place: rounds of splitting long edges and fixing bad elements until a round
 /// changes nothing (or `params.max_rounds` is reached), then reports what it did and what is left.
+///
+/// The mesh's journal is switched on if it was off, so every split and collapse is recorded for the
+/// frame's event list (`EventList::drain`) whoever calls this.
 pub fn improve(mesh: &mut Mesh, params: &ImproveParams) -> Result<ImproveReport, ImproveError> {
     params.check()?;
+    mesh.record_mutations();
     let limits = Limits::new(params);
     let mut report = ImproveReport::default();
     while report.rounds < params.max_rounds {
@@ -60,7 +64,6 @@ fn unfixed(mesh: &Mesh, limits: &Limits) -> Vec<Unfixed> {
         .filter_map(|task| {
             let h = task.locate(mesh)?;
             let mut refusals: Vec<(Operation, Refusal)> = fix::candidates(mesh, &task, h, limits)
-                .into_iter()
                 .filter_map(|f| {
                     fix::check(mesh, f, limits)
                         .err()

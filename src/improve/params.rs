@@ -94,9 +94,18 @@ pub(super) struct Limits {
     pub max_edge: f32,
     pub min_angle: f32,
     pub min_dihedral: f32,
+    pub cos_min_dihedral: f32,
     pub edge_ratio: f32,
     pub deviation: f32,
+    /// Cosines of the angle and dihedral limits widened by `FILTER_MARGIN_DEGREES`, for the
+    /// trigonometry-free filters that run before an angle is measured.
+    pub cos_angle_filter: f32,
+    pub cos_dihedral_filter: f32,
 }
+
+/// The cheap filters let through everything within this many degrees of a limit, so rounding in
+/// them never hides an element that the exact measure finds bad.
+const FILTER_MARGIN_DEGREES: f32 = 0.01;
 
 impl Limits {
     pub fn new(params: &ImproveParams) -> Self {
@@ -106,8 +115,17 @@ impl Limits {
             max_edge: params.max_edge_length(),
             min_angle: params.min_angle_degrees,
             min_dihedral: params.min_dihedral_degrees,
+            cos_min_dihedral: params.min_dihedral_degrees.to_radians().cos(),
             edge_ratio: params.edge_ratio,
             deviation: params.max_deviation * params.edge_length,
+            cos_angle_filter: (params.min_angle_degrees + FILTER_MARGIN_DEGREES)
+                .min(90.0)
+                .to_radians()
+                .cos(),
+            cos_dihedral_filter: (params.min_dihedral_degrees + FILTER_MARGIN_DEGREES)
+                .min(180.0)
+                .to_radians()
+                .cos(),
         }
     }
 }

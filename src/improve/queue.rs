@@ -23,8 +23,12 @@ pub(super) struct Task {
 }
 
 impl Task {
+    /// The edge of `h`, named from its end with the smaller id so both half-edges give one task.
     pub fn edge(mesh: &Mesh, kind: Kind, measure: f32, h: HalfEdgeId) -> Self {
-        let (a, b) = (mesh.origin(h), mesh.target(h));
+        let (mut a, mut b) = (mesh.origin(h), mesh.target(h));
+        if mesh.id(b) < mesh.id(a) {
+            std::mem::swap(&mut a, &mut b);
+        }
         Self {
             kind,
             measure,
@@ -75,7 +79,7 @@ impl PartialOrd for Task {
 }
 
 impl Ord for Task {
-    /// Reversed, so the max-heap pops the smallest (kind, measure, ids) first.
+    /// Reversed, so the greatest task — popped first — has the smallest (kind, measure, ids).
     fn cmp(&self, other: &Self) -> Ordering {
         let (k0, m0, i0) = self.key();
         let (k1, m1, i1) = other.key();
@@ -85,4 +89,32 @@ impl Ord for Task {
     }
 }
 
-pub(super) type Queue = BinaryHeap<Task>;
+/// The work list: the initial scan sorted once, plus a heap for the tasks operations add, popped
+/// together in task order. Sorting the bulk once is much cheaper than heap-popping it.
+pub(super) struct Queue {
+    /// Sorted so that the next task is last.
+    initial: Vec<Task>,
+    added: BinaryHeap<Task>,
+}
+
+impl Queue {
+    pub fn new(mut tasks: Vec<Task>) -> Self {
+        tasks.sort_unstable();
+        Self {
+            initial: tasks,
+            added: BinaryHeap::new(),
+        }
+    }
+
+    pub fn push(&mut self, task: Task) {
+        self.added.push(task);
+    }
+
+    pub fn pop(&mut self) -> Option<Task> {
+        match (self.initial.last(), self.added.peek()) {
+            (Some(a), Some(b)) if b > a => self.added.pop(),
+            (Some(_), _) => self.initial.pop(),
+            (None, _) => self.added.pop(),
+        }
+    }
+}

@@ -36,8 +36,8 @@ pub enum Operation {
 /// What is wrong with an element improvement could not fix.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
 pub enum Problem {
-    ShortEdge,
     SmallAngle,
+    ShortEdge,
     SharpDihedral,
     LongEdge,
 }

@@ -1,11 +1,11 @@
-//! Splitting edges longer than the limit at their midpoints (paper §4.1), longest first. A split does
-//! not move the surface; the two halves of an edge just past the limit are at least `L` long, above
-//! the collapse threshold.
+//! Edge splits at the midpoint (paper §4.1), which never move the surface: every edge longer than the
+//! limit, longest first — the two halves of an edge just past the limit are at least `L` long, above
+//! the collapse threshold — and, as a last resort, the longest edge of a badly proportioned triangle.
 
 use super::geometry::fails;
 use super::params::Limits;
 use super::report::{ImproveReport, Refusal};
-use crate::mesh::{HalfEdgeId, Mesh};
+use crate::mesh::{HalfEdgeId, Mesh, VertexId};
 use glam::Vec3;
 use std::collections::BinaryHeap;
 
@@ -17,6 +17,7 @@ struct LongEdge {
 }
 
 /// Splits every edge longer than `limits.max_edge` (repeatedly, until none is); returns how many.
+/// No vertex is removed during the pass, so the heap can name edges by vertex slots.
 pub(super) fn split_long_edges(
     mesh: &mut Mesh,
     limits: &Limits,
@@ -37,7 +38,7 @@ pub(super) fn split_long_edges(
         .collect();
     let mut splits = 0;
     while let Some((edge, a, b)) = heap.pop() {
-        let (a, b) = (crate::mesh::VertexId(a), crate::mesh::VertexId(b));
+        let (a, b) = (VertexId(a), VertexId(b));
         let Some(h) = mesh.find_half_edge(a, b) else {
             continue;
         };

@@ -233,15 +233,24 @@ impl Mesh {
                 open.push(3 * f + k as u32);
             }
         }
-        for &h in &open {
-            let (from, to) = (self.origin[h as usize], self.target(HalfEdgeId(h)).0);
-            let partner = open
-                .iter()
-                .copied()
-                .find(|&g| self.origin[g as usize] == to && self.target(HalfEdgeId(g)).0 == from);
-            debug_assert!(partner.is_some(), "rewrite left half-edge {h} unpaired");
-            if let Some(g) = partner {
+        // Twins share an undirected edge: sorting by it puts every pair side by side, so pairing
+        // costs O(n log n) rather than a search per half-edge.
+        let mut keyed: Vec<(u32, u32, u32)> = open
+            .iter()
+            .map(|&h| {
+                let (from, to) = (self.origin[h as usize], self.target(HalfEdgeId(h)).0);
+                (from.min(to), from.max(to), h)
+            })
+            .collect();
+        keyed.sort_unstable();
+        for pair in keyed.chunks_exact(2) {
+            let (h, g) = (pair[0].2, pair[1].2);
+            let opposite = (pair[0].0, pair[0].1) == (pair[1].0, pair[1].1)
+                && self.origin[h as usize] != self.origin[g as usize];
+            debug_assert!(opposite, "rewrite left half-edges {h} and {g} unpaired");
+            if opposite {
                 self.twin[h as usize] = g;
+                self.twin[g as usize] = h;
             }
         }
         for &h in open.iter().rev() {

@@ -1,21 +1,25 @@
 //! Binned-SAH BVH construction (Wald 2007, "On fast construction of SAH-based bounding volume
-//! hierarchies"), flattened into the node layout both backends traverse.
+//! hierarchies"), then widened into the 4-wide node layout both backends traverse.
 //!
-//! Every node tries 16 bins along each of the three axes of its centroid bounds and keeps the
-//! plane with the least surface-area cost, or becomes a leaf when that is cheaper. Subtrees of
-//! more than [`PARALLEL_MIN`] triangles are built in parallel into their own node arrays and
-//! appended in a fixed order, so the result is identical whatever the thread count.
+//! Every binary node tries up to 16 bins along each of the three axes of its centroid bounds and
+//! keeps the plane with the least surface-area cost, or becomes a leaf when that is cheaper.
+//! Subtrees of more than [`PARALLEL_MIN`] triangles are built in parallel into their own node
+//! arrays and appended in a fixed order, so the result is identical whatever the thread count.
+//! Widening pulls grandchildren up into 4-wide nodes (as Embree's BVH4), which halves the levels a
+//! traversal descends and lets one SIMD step test four boxes.
 
-use bytemuck::Zeroable;
 use glam::{UVec3, Vec3A};
 use rayon::prelude::*;
 
 use super::BvhNode;
 use crate::compute::Aabb;
 
-/// Deepest leaf below the root plus one; the traversal stacks of both backends hold this many
-/// entries (`STACK_SIZE` in `kernels/shared/bvh.wgsl`), one per level at most.
-pub const MAX_DEPTH: usize = 64;
+/// Deepest binary leaf below the root plus one. Every level of the 4-wide tree spans at least two
+/// binary levels, so it is at most `MAX_DEPTH / 2` deep, and a traversal, which keeps at most
+/// three siblings per level, needs at most [`STACK_SIZE`] entries.
+const MAX_DEPTH: usize = 42;
+/// Entries of the traversal stacks of both backends (`STACK_SIZE` in `kernels/shared/bvh.wgsl`).
+pub const STACK_SIZE: usize = 3 * MAX_DEPTH / 2 + 1;
 /// Most triangles a leaf may hold.
 pub const MAX_LEAF: usize = 4;
 const BINS: usize = 16;
@@ -24,11 +28,29 @@ const TRAVERSAL_COST: f32 = 1.0;
 /// Subtrees with at least this many triangles build their two halves in parallel.
 const PARALLEL_MIN: usize = 4096;
 
-/// A BVH over triangles: nodes (root first, node 1 unused) and, per leaf slot, the triangle it
-/// holds.
+/// A BVH over triangles: 4-wide nodes (root first) and, per leaf slot, the triangle it holds.
 pub(super) struct Tree {
     pub nodes: Vec<BvhNode>,
     pub order: Vec<u32>,
+}
+
+/// A node of the binary tree the builder makes before widening. Interior (`count == 0`):
+/// children at `index` and `index + 1`. Leaf: triangle slots `index .. index + count`.
+#[derive(Debug, Clone, Copy, Default)]
+struct BinaryNode {
+    bounds: Option<Bounds>,
+    index: u32,
+    count: u32,
+}
+
+impl BinaryNode {
+    fn is_leaf(&self) -> bool {
+        self.count > 0
+    }
+
+    fn bounds(&self) -> Bounds {
+        self.bounds.unwrap_or(Bounds::EMPTY)
+    }
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -64,10 +86,19 @@ impl Bounds {
     }
 }
 
-/// What the builder knows of each triangle: its box and that box's centre.
-struct Prims {
-    boxes: Vec<Bounds>,
-    centroids: Vec<Vec3A>,
+/// A triangle as the builder moves it: its box and its index. Partitioning moves these records
+/// themselves rather than indices into a table, so every pass over a node streams through
+/// contiguous memory (Embree's primitive references).
+#[derive(Debug, Clone, Copy)]
+struct PrimRef {
+    bounds: Bounds,
+    id: u32,
+}
+
+impl PrimRef {
+    fn centroid(&self) -> Vec3A {
+        (self.bounds.min + self.bounds.max) * 0.5
+    }
 }
 
 /// A node's box and the bounds of its triangles' centroids (what binning subdivides).
@@ -78,64 +109,72 @@ struct Extent {
 }
 
 impl Extent {
-    fn of(prims: &Prims, refs: &[u32]) -> Extent {
-        refs.iter().fold(
-            Extent {
-                bounds: Bounds::EMPTY,
-                centroids: Bounds::EMPTY,
-            },
-            |e, &r| Extent {
-                bounds: e.bounds.union(prims.boxes[r as usize]),
-                centroids: e.centroids.grow(prims.centroids[r as usize]),
-            },
-        )
+    const EMPTY: Extent = Extent {
+        bounds: Bounds::EMPTY,
+        centroids: Bounds::EMPTY,
+    };
+
+    fn of(refs: &[PrimRef]) -> Extent {
+        refs.iter().fold(Extent::EMPTY, |e, r| e.add(r))
+    }
+
+    fn add(self, r: &PrimRef) -> Extent {
+        Extent {
+            bounds: self.bounds.union(r.bounds),
+            centroids: self.centroids.grow(r.centroid()),
+        }
     }
 }
 
 /// Builds the BVH of the triangles whose boxes are `boxes` (at least one).
 pub(super) fn build(boxes: &[Aabb]) -> Tree {
-    let boxes: Vec<Bounds> = boxes
+    let mut refs: Vec<PrimRef> = boxes
         .par_iter()
-        .map(|b| Bounds {
-            min: b.min.into(),
-            max: b.max.into(),
+        .enumerate()
+        .map(|(id, b)| PrimRef {
+            bounds: Bounds {
+                min: b.min.into(),
+                max: b.max.into(),
+            },
+            id: id as u32,
         })
         .collect();
-    let centroids = boxes.par_iter().map(|b| (b.min + b.max) * 0.5).collect();
-    let prims = Prims { boxes, centroids };
-    let count = u32::try_from(prims.boxes.len()).unwrap_or(u32::MAX);
-    let mut order: Vec<u32> = (0..count).collect();
-    let extent = Extent::of(&prims, &order);
-    // Node 1 is padding: child pairs are pushed two at a time from index 2 on, so each pair
-    // fills one 64-byte line of a 64-byte-aligned array.
-    let mut nodes = vec![BvhNode::zeroed(); 2];
-    nodes[0] = subtree(&prims, &mut order, 0, extent, 0, &mut nodes);
-    Tree { nodes, order }
+    // Unions are exact in any order, so the parallel reduction is deterministic.
+    let extent = refs
+        .par_chunks(PARALLEL_MIN)
+        .map(Extent::of)
+        .reduce(|| Extent::EMPTY, |a, b| Extent {
+            bounds: a.bounds.union(b.bounds),
+            centroids: a.centroids.union(b.centroids),
+        });
+    let mut nodes = vec![BinaryNode::default()];
+    nodes[0] = subtree(&mut refs, 0, extent, 0, &mut nodes);
+    Tree {
+        nodes: widen(&nodes),
+        order: refs.par_iter().map(|r| r.id).collect(),
+    }
 }
 
 /// Builds the subtree over `refs` (leaf slots `first..`), appending its descendants to `out`, and
 /// returns its root with child indices relative to the start of `out`.
 fn subtree(
-    prims: &Prims,
-    refs: &mut [u32],
+    refs: &mut [PrimRef],
     first: u32,
     extent: Extent,
     depth: usize,
-    out: &mut Vec<BvhNode>,
-) -> BvhNode {
+    out: &mut Vec<BinaryNode>,
+) -> BinaryNode {
     let count = refs.len();
-    let Some(mid) = split(prims, refs, extent, depth) else {
+    let Some((mid, left_extent, right_extent)) = split(refs, extent, depth) else {
         return node(extent.bounds, first, count as u32);
     };
     let (left, right) = refs.split_at_mut(mid);
-    let left_extent = Extent::of(prims, left);
-    let right_extent = Extent::of(prims, right);
     let right_first = first + mid as u32;
     let pair = out.len();
     if count >= PARALLEL_MIN {
-        let detached = |refs: &mut [u32], first: u32, extent: Extent| {
+        let detached = |refs: &mut [PrimRef], first: u32, extent: Extent| {
             let mut nodes = Vec::new();
-            let root = subtree(prims, refs, first, extent, depth + 1, &mut nodes);
+            let root = subtree(refs, first, extent, depth + 1, &mut nodes);
             (root, nodes)
         };
         let ((left_root, left_nodes), (right_root, right_nodes)) = rayon::join(
@@ -147,25 +186,24 @@ fn subtree(
         attach(out, pair, left_nodes);
         attach(out, pair + 1, right_nodes);
     } else {
-        out.extend([BvhNode::zeroed(); 2]);
-        out[pair] = subtree(prims, left, first, left_extent, depth + 1, out);
-        out[pair + 1] = subtree(prims, right, right_first, right_extent, depth + 1, out);
+        out.extend([BinaryNode::default(); 2]);
+        out[pair] = subtree(left, first, left_extent, depth + 1, out);
+        out[pair + 1] = subtree(right, right_first, right_extent, depth + 1, out);
     }
     node(extent.bounds, pair as u32, 0)
 }
 
-fn node(bounds: Bounds, index: u32, count: u32) -> BvhNode {
-    BvhNode {
-        min: bounds.min.into(),
+fn node(bounds: Bounds, index: u32, count: u32) -> BinaryNode {
+    BinaryNode {
+        bounds: Some(bounds),
         index,
-        max: bounds.max.into(),
         count,
     }
 }
 
 /// Appends a subtree built into its own array, moving its child indices (and its root's, in
 /// `out[slot]`) by the array's new offset. Leaf indices are slots and stay as they are.
-fn attach(out: &mut Vec<BvhNode>, slot: usize, descendants: Vec<BvhNode>) {
+fn attach(out: &mut Vec<BinaryNode>, slot: usize, descendants: Vec<BinaryNode>) {
     let base = out.len() as u32;
     if !out[slot].is_leaf() {
         out[slot].index += base;
@@ -178,9 +216,9 @@ fn attach(out: &mut Vec<BvhNode>, slot: usize, descendants: Vec<BvhNode>) {
     }));
 }
 
-/// Reorders `refs` into two non-empty halves and returns the length of the first, or `None` when
-/// the node should be a leaf.
-fn split(prims: &Prims, refs: &mut [u32], extent: Extent, depth: usize) -> Option<usize> {
+/// Reorders `refs` into two non-empty halves and returns the length of the first and the extents
+/// of both, or `None` when the node should be a leaf.
+fn split(refs: &mut [PrimRef], extent: Extent, depth: usize) -> Option<(usize, Extent, Extent)> {
     let count = refs.len();
     if count <= 1 {
         return None;
@@ -193,22 +231,21 @@ fn split(prims: &Prims, refs: &mut [u32], extent: Extent, depth: usize) -> Optio
         if count <= MAX_LEAF {
             return None;
         }
-        return Some(median_split(prims, refs, size));
+        return Some(median_split(refs, size));
     }
     let binning = Binning::new(extent.centroids, size, count);
-    let best = best_plane(prims, refs, &binning);
+    let best = best_plane(refs, &binning);
     let leaf_cost = count as f32;
     let split_cost = TRAVERSAL_COST + best.cost / extent.bounds.half_area();
     if count <= MAX_LEAF && split_cost >= leaf_cost {
         return None;
     }
-    let mid = partition(refs, |r| {
-        binning.bins(prims.centroids[r as usize])[best.axis] < best.plane
-    });
+    let (mid, left, right) =
+        partition(refs, |r| binning.bins(r.centroid())[best.axis] < best.plane);
     if mid == 0 || mid == count {
-        return Some(median_split(prims, refs, size));
+        return Some(median_split(refs, size));
     }
-    Some(mid)
+    Some((mid, left, right))
 }
 
 /// The smallest `k` with `2^k >= n`.
@@ -218,15 +255,14 @@ fn ceil_log2(n: usize) -> usize {
 
 /// Splits at the median centroid along the widest axis, ties broken by triangle index so the two
 /// halves do not depend on the selection algorithm.
-fn median_split(prims: &Prims, refs: &mut [u32], size: Vec3A) -> usize {
+fn median_split(refs: &mut [PrimRef], size: Vec3A) -> (usize, Extent, Extent) {
     let axis = widest_axis(size);
     let mid = refs.len() / 2;
-    refs.select_nth_unstable_by(mid, |&a, &b| {
-        let ca = prims.centroids[a as usize][axis];
-        let cb = prims.centroids[b as usize][axis];
-        ca.total_cmp(&cb).then(a.cmp(&b))
+    refs.select_nth_unstable_by(mid, |a, b| {
+        let (ca, cb) = (a.centroid()[axis], b.centroid()[axis]);
+        ca.total_cmp(&cb).then(a.id.cmp(&b.id))
     });
-    mid
+    (mid, Extent::of(&refs[..mid]), Extent::of(&refs[mid..]))
 }
 
 fn widest_axis(size: Vec3A) -> usize {
@@ -239,18 +275,23 @@ fn widest_axis(size: Vec3A) -> usize {
     }
 }
 
-/// Moves the refs satisfying `left` to the front, returning how many there are.
-fn partition(refs: &mut [u32], left: impl Fn(u32) -> bool) -> usize {
+/// Moves the refs satisfying `left` to the front, returning how many there are and the extents
+/// of both sides, gathered in the same pass.
+fn partition(refs: &mut [PrimRef], left: impl Fn(&PrimRef) -> bool) -> (usize, Extent, Extent) {
+    let (mut left_extent, mut right_extent) = (Extent::EMPTY, Extent::EMPTY);
     let (mut i, mut j) = (0, refs.len());
     while i < j {
-        if left(refs[i]) {
+        let r = refs[i];
+        if left(&r) {
+            left_extent = left_extent.add(&r);
             i += 1;
         } else {
+            right_extent = right_extent.add(&r);
             j -= 1;
             refs.swap(i, j);
         }
     }
-    i
+    (i, left_extent, right_extent)
 }
 
 /// Maps centroids to bins along all three axes at once.
@@ -313,16 +354,14 @@ struct Plane {
     cost: f32,
 }
 
-fn best_plane(prims: &Prims, refs: &[u32], binning: &Binning) -> Plane {
-    let fill = |refs: &[u32]| {
+fn best_plane(refs: &[PrimRef], binning: &Binning) -> Plane {
+    let fill = |refs: &[PrimRef]| {
         let mut bins = [[EMPTY_BIN; BINS]; 3];
-        for &r in refs {
-            let r = r as usize;
-            let bounds = prims.boxes[r];
-            let k = binning.bins(prims.centroids[r]);
+        for r in refs {
+            let k = binning.bins(r.centroid());
             for (axis_bins, k) in bins.iter_mut().zip(k) {
                 let bin = &mut axis_bins[k];
-                bin.bounds = bin.bounds.union(bounds);
+                bin.bounds = bin.bounds.union(r.bounds);
                 bin.count += 1;
             }
         }
@@ -374,4 +413,79 @@ fn merge_bins(mut a: [[Bin; BINS]; 3], b: [[Bin; BINS]; 3]) -> [[Bin; BINS]; 3] 
         }
     }
     a
+}
+
+/// Widens the binary tree into 4-wide nodes. A wide node takes its binary node's two children and
+/// replaces each interior one by its own two children, so every wide level spans at least two
+/// binary levels; a slot still free then goes to the interior child of largest area (the one a
+/// line is likeliest to enter). Children are numbered in the order they are first reached.
+fn widen(binary: &[BinaryNode]) -> Vec<BvhNode> {
+    let mut wide = vec![BvhNode::empty()];
+    let mut pending = vec![(0usize, 0usize)];
+    while let Some((b, w)) = pending.pop() {
+        let mut node = BvhNode::empty();
+        for (k, &c) in gather(binary, b).iter().enumerate() {
+            let child = binary[c];
+            let bounds = child.bounds();
+            node.min_x[k] = bounds.min.x;
+            node.min_y[k] = bounds.min.y;
+            node.min_z[k] = bounds.min.z;
+            node.max_x[k] = bounds.max.x;
+            node.max_y[k] = bounds.max.y;
+            node.max_z[k] = bounds.max.z;
+            if child.is_leaf() {
+                node.child[k] = child.index;
+                node.count[k] = child.count;
+            } else {
+                node.child[k] = wide.len() as u32;
+                node.count[k] = 0;
+                pending.push((c, wide.len()));
+                wide.push(BvhNode::empty());
+            }
+        }
+        wide[w] = node;
+    }
+    wide
+}
+
+/// The binary nodes that become the children of the wide node made from binary node `b`.
+fn gather(binary: &[BinaryNode], b: usize) -> Vec<usize> {
+    let node = binary[b];
+    if node.is_leaf() {
+        return vec![b];
+    }
+    let split = |c: usize| {
+        let i = binary[c].index as usize;
+        [i, i + 1]
+    };
+    let mut children: Vec<usize> = split(b)
+        .into_iter()
+        .flat_map(|c| {
+            if binary[c].is_leaf() {
+                vec![c]
+            } else {
+                split(c).to_vec()
+            }
+        })
+        .collect();
+    while children.len() < 4 {
+        let largest = children
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| !binary[**c].is_leaf())
+            .fold(None, |best: Option<(usize, f32)>, (k, &c)| {
+                let area = binary[c].bounds().half_area();
+                match best {
+                    Some((_, a)) if a >= area => best,
+                    _ => Some((k, area)),
+                }
+            });
+        let Some((k, _)) = largest else {
+            break;
+        };
+        let [l, r] = split(children[k]);
+        children[k] = l;
+        children.insert(k + 1, r);
+    }
+    children
 }

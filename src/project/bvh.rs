@@ -2,11 +2,10 @@ use std::sync::OnceLock;
 
 use rayon::prelude::*;
 
-use super::build::{self, MAX_DEPTH, MAX_LEAF};
+use super::build::{self, MAX_LEAF, STACK_SIZE};
 use super::gpu::Resident;
-use super::node::NodePair;
-use super::shading::shading;
-use super::{BvhNode, BvhTriangle, NormalTriple, ProjectError, PseudoNormals};
+use super::shading::Shading;
+use super::{BvhChild, BvhNode, BvhTriangle, NormalTriple, ProjectError, PseudoNormals};
 use crate::compute::{Backend, ComputeError, triangle_bounds};
 use crate::mesh::{IndexedMesh, MeshError};
 
@@ -18,7 +17,7 @@ use crate::mesh::{IndexedMesh, MeshError};
 /// for every later query against this frame.
 #[derive(Debug)]
 pub struct Bvh {
-    nodes: Vec<NodePair>,
+    nodes: Vec<BvhNode>,
     triangles: Vec<BvhTriangle>,
     normals: Vec<NormalTriple>,
     pseudo: Vec<PseudoNormals>,
@@ -67,7 +66,7 @@ impl Bvh {
                 other => ProjectError::Compute(other),
             },
         )?;
-        let tree = build::build(&boxes);
+        let (tree, shading) = rayon::join(|| build::build(&boxes), || Shading::new(mesh));
         let triangles = tree
             .order
             .par_iter()
@@ -76,30 +75,23 @@ impl Bvh {
                 BvhTriangle::new(corners, t)
             })
             .collect();
-        let shading = shading(mesh, &tree.order);
-        let nodes = tree
-            .nodes
-            .chunks_exact(2)
-            .map(|pair| NodePair([pair[0], pair[1]]))
-            .collect();
+        let (normals, pseudo) = shading.in_leaf_order(mesh, &tree.order);
         Ok(Bvh {
-            nodes,
+            nodes: tree.nodes,
             triangles,
-            normals: shading.normals,
-            pseudo: shading.pseudo,
+            normals,
+            pseudo,
             mean_edge_length: shading.mean_edge_length,
             resident: OnceLock::new(),
         })
     }
 
-    /// The nodes, root first; the children of interior node `n` are `n.index` and `n.index + 1`,
-    /// always at an even index. Node 1 is unused padding that aligns every child pair to a cache
-    /// line.
+    /// The 4-wide nodes, root first.
     pub fn nodes(&self) -> &[BvhNode] {
-        bytemuck::cast_slice(&self.nodes)
+        &self.nodes
     }
 
-    /// The triangles in leaf order: leaf `n` holds slots `n.index .. n.index + n.count`.
+    /// The triangles in leaf order: a leaf child holds slots `first .. first + count`.
     pub fn triangles(&self) -> &[BvhTriangle] {
         &self.triangles
     }
@@ -119,23 +111,24 @@ impl Bvh {
         self.mean_edge_length
     }
 
-    /// Levels below the root of the deepest leaf; always below the traversal stacks' size.
+    /// Levels of nodes below the root (0 when the root is the only node). A traversal keeps at
+    /// most three entries per level, so `3 · (depth + 1)` never exceeds [`Bvh::STACK_SIZE`].
     pub fn depth(&self) -> usize {
         let mut deepest = 0;
         let mut pending = vec![(0usize, 0usize)];
         while let Some((n, depth)) = pending.pop() {
             deepest = deepest.max(depth);
-            let node = self.nodes()[n];
-            if !node.is_leaf() {
-                pending.push((node.index as usize, depth + 1));
-                pending.push((node.index as usize + 1, depth + 1));
+            for (_, child) in self.nodes[n].children() {
+                if let BvhChild::Node { index } = child {
+                    pending.push((index as usize, depth + 1));
+                }
             }
         }
         deepest
     }
 
     /// Entries the traversal stacks hold (`STACK_SIZE` in `kernels/shared/bvh.wgsl`).
-    pub const STACK_SIZE: usize = MAX_DEPTH;
+    pub const STACK_SIZE: usize = STACK_SIZE;
 
     /// Most triangles in one leaf.
     pub const MAX_LEAF_TRIANGLES: usize = MAX_LEAF;

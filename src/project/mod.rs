@@ -37,7 +37,7 @@ pub use bvh::Bvh;
 pub use correspondence::{Correspondence, Status};
 pub use error::ProjectError;
 pub use gpu::{GpuBvh, GpuQueries};
-pub use node::BvhNode;
+pub use node::{BvhChild, BvhNode};
 pub use options::{ProjectOptions, QueryParams};
 pub use query::{closest_points, project};
 pub use triangle::{BvhTriangle, NormalTriple, PseudoNormals};

@@ -1,27 +1,79 @@
 use bytemuck::{Pod, Zeroable};
-use glam::Vec3;
 
 use crate::compute::registry::{GpuStructLayout, SharedWgsl};
 
-/// One node of the flattened BVH that both the CPU traversal and `kernels/project.wgsl` read.
+/// One node of the flattened 4-wide BVH that both the CPU traversal and the WGSL kernels read.
 ///
-/// Mirrors `struct BvhNode` in `kernels/shared/bvh.wgsl`. The two children of an interior node are
-/// stored side by side (`index`, `index + 1`), so one node array with 32-byte entries serves both
-/// backends and a traversal step touches one 64-byte pair.
-#[repr(C)]
+/// Mirrors `struct BvhNode` in `kernels/shared/bvh.wgsl`. The four children's boxes are stored
+/// axis by axis (`min_x[k]` … `max_z[k]` for child `k`), so one SIMD step tests all four; with
+/// 128 bytes aligned to 64, a node is two whole cache lines.
+#[repr(C, align(64))]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct BvhNode {
-    pub min: Vec3,
-    /// Leaf: the first of its triangle slots. Interior: the left child; the right one follows it.
-    pub index: u32,
-    pub max: Vec3,
-    /// Number of triangles of a leaf; 0 marks an interior node.
-    pub count: u32,
+    pub min_x: [f32; 4],
+    pub min_y: [f32; 4],
+    pub min_z: [f32; 4],
+    pub max_x: [f32; 4],
+    pub max_y: [f32; 4],
+    pub max_z: [f32; 4],
+    /// Per child: the node index of an interior child, the first triangle slot of a leaf.
+    pub child: [u32; 4],
+    /// Per child: 0 for an interior node, the number of triangles of a leaf, or
+    /// [`BvhNode::EMPTY`] for an unused slot.
+    pub count: [u32; 4],
+}
+
+/// One child of a node, as [`BvhNode::children`] lists it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum BvhChild {
+    Node { index: u32 },
+    Leaf { first: u32, count: u32 },
 }
 
 impl BvhNode {
-    pub fn is_leaf(&self) -> bool {
-        self.count > 0
+    /// `count` of an unused child slot (`EMPTY_CHILD` in `kernels/shared/bvh.wgsl`).
+    pub const EMPTY: u32 = u32::MAX;
+
+    /// A node whose four slots are all unused.
+    pub(super) const fn empty() -> Self {
+        Self {
+            min_x: [0.0; 4],
+            min_y: [0.0; 4],
+            min_z: [0.0; 4],
+            max_x: [0.0; 4],
+            max_y: [0.0; 4],
+            max_z: [0.0; 4],
+            child: [0; 4],
+            count: [Self::EMPTY; 4],
+        }
+    }
+
+    /// The box of child `k`, as (min, max).
+    pub fn bounds(&self, k: usize) -> ([f32; 3], [f32; 3]) {
+        (
+            [self.min_x[k], self.min_y[k], self.min_z[k]],
+            [self.max_x[k], self.max_y[k], self.max_z[k]],
+        )
+    }
+
+    /// The used child slots, in slot order, with their index `k`.
+    pub fn children(&self) -> impl Iterator<Item = (usize, BvhChild)> + '_ {
+        (0..4).filter_map(|k| match self.count[k] {
+            Self::EMPTY => None,
+            0 => Some((
+                k,
+                BvhChild::Node {
+                    index: self.child[k],
+                },
+            )),
+            count => Some((
+                k,
+                BvhChild::Leaf {
+                    first: self.child[k],
+                    count,
+                },
+            )),
+        })
     }
 
     /// The layout the WGSL mirror must have, checked against naga in `tests/kernels_validate.rs`.
@@ -30,16 +82,14 @@ impl BvhNode {
         wgsl: &SharedWgsl::BVH,
         size: size_of::<Self>(),
         members: &[
-            ("min", core::mem::offset_of!(Self, min)),
-            ("index", core::mem::offset_of!(Self, index)),
-            ("max", core::mem::offset_of!(Self, max)),
+            ("min_x", core::mem::offset_of!(Self, min_x)),
+            ("min_y", core::mem::offset_of!(Self, min_y)),
+            ("min_z", core::mem::offset_of!(Self, min_z)),
+            ("max_x", core::mem::offset_of!(Self, max_x)),
+            ("max_y", core::mem::offset_of!(Self, max_y)),
+            ("max_z", core::mem::offset_of!(Self, max_z)),
+            ("child", core::mem::offset_of!(Self, child)),
             ("count", core::mem::offset_of!(Self, count)),
         ],
     };
 }
-
-/// Two sibling nodes, the unit of storage: 64 bytes aligned to 64, so a traversal step that tests
-/// both children of a node reads exactly one cache line.
-#[repr(C, align(64))]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub(super) struct NodePair(pub [BvhNode; 2]);

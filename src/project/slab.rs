@@ -1,7 +1,8 @@
-//! Line–box test for BVH traversal: the part of a line `o + t·d` inside a node's box, as the
-//! distance `|t|` from the origin to the nearest point of that part.
+//! Line–box test for BVH traversal: for each of a node's four children, the part of a line
+//! `o + t·d` inside the child's box, as the distance `|t|` from the origin to the nearest point
+//! of that part.
 
-use glam::{Vec3, Vec3A};
+use glam::{BVec4A, Vec3, Vec4};
 
 use super::BvhNode;
 
@@ -12,14 +13,12 @@ const WIDEN: f32 = 4.0 * f32::EPSILON;
 /// Direction components smaller than this are replaced by it (with their sign) before taking the
 /// reciprocal, so no slab parameter is ever NaN (0 · ∞) or infinite (as in Embree).
 const MIN_DIRECTION: f32 = 1e-18;
-/// What [`Slabs::key`] returns for a box the line misses within the allowed interval.
-pub(super) const MISS_KEY: f32 = -1.0;
 
-/// A line's origin and safe reciprocal direction.
+/// A line's origin and safe reciprocal direction, each component splatted over four lanes.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Slabs {
-    origin: Vec3A,
-    inv: Vec3A,
+    origin: [Vec4; 3],
+    inv: [Vec4; 3],
 }
 
 impl Slabs {
@@ -36,25 +35,28 @@ impl Slabs {
             }
         };
         Self {
-            origin: origin.into(),
-            inv: Vec3A::ONE / Vec3A::new(safe(direction.x), safe(direction.y), safe(direction.z)),
+            origin: origin.to_array().map(Vec4::splat),
+            inv: direction.to_array().map(|d| Vec4::splat(1.0 / safe(d))),
         }
     }
 
-    /// `min |t|` over the line's parameters inside `node`'s box and inside `[lo, hi]`, or
-    /// [`MISS_KEY`] when there is none.
+    /// Per child: `min |t|` over the line's parameters inside the child's box and inside
+    /// `[lo, hi]`, and whether there are any. Unused slots come out as whatever their zero box
+    /// gives; callers skip them by `count`.
     #[inline(always)]
-    pub(super) fn key(&self, node: &BvhNode, lo: f32, hi: f32) -> f32 {
-        let t0 = (Vec3A::from(node.min) - self.origin) * self.inv;
-        let t1 = (Vec3A::from(node.max) - self.origin) * self.inv;
-        let enter = t0.min(t1).max_element();
-        let exit = t0.max(t1).min_element();
-        let enter = (enter - enter.abs() * WIDEN).max(lo);
-        let exit = (exit + exit.abs() * WIDEN).min(hi);
-        if enter <= exit {
-            enter.max(-exit).max(0.0)
-        } else {
-            MISS_KEY
-        }
+    pub(super) fn keys(&self, node: &BvhNode, lo: f32, hi: f32) -> (Vec4, BVec4A) {
+        let [ox, oy, oz] = self.origin;
+        let [ix, iy, iz] = self.inv;
+        let tx0 = (Vec4::from(node.min_x) - ox) * ix;
+        let tx1 = (Vec4::from(node.max_x) - ox) * ix;
+        let ty0 = (Vec4::from(node.min_y) - oy) * iy;
+        let ty1 = (Vec4::from(node.max_y) - oy) * iy;
+        let tz0 = (Vec4::from(node.min_z) - oz) * iz;
+        let tz1 = (Vec4::from(node.max_z) - oz) * iz;
+        let enter = tx0.min(tx1).max(ty0.min(ty1)).max(tz0.min(tz1));
+        let exit = tx0.max(tx1).min(ty0.max(ty1)).min(tz0.max(tz1));
+        let enter = (enter - enter.abs() * WIDEN).max(Vec4::splat(lo));
+        let exit = (exit + exit.abs() * WIDEN).min(Vec4::splat(hi));
+        (enter.max(-exit).max(Vec4::ZERO), enter.cmple(exit))
     }
 }

@@ -4,7 +4,6 @@
 //! pattern's order, so `H` is bit-identical whatever the thread count. A vertex's fit term adds
 //! `(u_i u_jᵀ) ⊗ M_v` to block (i, j), with `u = w φ` from the skinning and `M_v` its 3×3 fit
 //! matrix; `E_smooth` adds its constant `S ⊗ I₃`; `E_rigid` adds `J_rᵀ J_r` to the diagonal blocks.
-#![allow(clippy::needless_range_loop)]
 
 use rayon::prelude::*;
 

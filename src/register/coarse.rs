@@ -9,7 +9,6 @@
 //! vertex's correspondence is replaced only when the new one fits the vertex better, so the
 //! stage's energy can only fall (every term is then no larger than before); each new stage starts
 //! from a complete fresh projection.
-#![allow(clippy::collapsible_if)]
 
 use std::time::Instant;
 
@@ -30,6 +29,7 @@ use super::options::{CoarseOptions, LinearSolver, RegisterOptions};
 use super::pattern::{Coupling, Pattern};
 use super::pcg::pcg;
 use super::report::{CoarseReport, IterationReport, StageReport, StepTimes};
+use super::rigid::{node_unknowns, prealign};
 use super::surface::Surface;
 use crate::compute::Backend;
 use crate::mesh::IndexedMesh;
@@ -351,8 +351,42 @@ impl<'a> CoarseSolver<'a> {
         energy(&self.model, &self.x, &self.deformed, &self.current, w).total(w)
     }
 
-    /// The whole schedule: stages of Gauss-Newton iterations from `α_reg` start down to the floor.
+    /// Rigid ICP of the samples from the current state's rest pose; every node then starts from the
+    /// rigid motion found.
+    fn prealign(&mut self) -> Result<(), RegisterError> {
+        let t = Instant::now();
+        let rest: Vec<DVec3> = self
+            .samples
+            .iter()
+            .map(|&v| self.surface.rest[v as usize])
+            .collect();
+        let normals = self
+            .surface
+            .faces
+            .normals_of(&self.surface.rest, &self.samples);
+        let (correspond, units) = (self.correspond.as_ref(), &self.surface.units);
+        let max_distance = self.options.max_distance;
+        let (pose, report) = prealign(
+            &rest,
+            &normals,
+            self.weights.plane,
+            self.weights.point,
+            self.options.rigid_iterations,
+            |points, normals| targets(correspond, units, points, normals, max_distance),
+        )?;
+        self.x = node_unknowns(&pose, &self.model.nodes);
+        self.deformed = self.model.deform(&self.x);
+        self.report.rigid_energies = report.energies;
+        self.report.rigid_time = t.elapsed();
+        Ok(())
+    }
+
+    /// The whole schedule: rigid pre-alignment, then stages of Gauss-Newton iterations from
+    /// `α_reg` start down to the floor.
     pub fn run(&mut self) -> Result<CoarseReport, RegisterError> {
+        if self.options.rigid_iterations > 0 {
+            self.prealign()?;
+        }
         let t = Instant::now();
         let mut fresh = self.fresh()?;
         let mut pending = t.elapsed();

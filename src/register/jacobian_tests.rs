@@ -1,7 +1,6 @@
 //! Bar 1 of issue 5: every analytic Jacobian of the coarse energy checked against central finite
 //! differences of its residuals, and everything built from them (`Jᵀr`, the assembled `JᵀJ`, the
 //! matrix-free product, the graph-pattern bound) checked against the Jacobian.
-#![allow(clippy::needless_range_loop, clippy::useless_vec)]
 
 use glam::{DVec3, Vec3};
 

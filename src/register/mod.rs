@@ -26,9 +26,12 @@ mod options;
 mod pattern;
 mod pcg;
 mod report;
+mod rigid;
 mod surface;
 
 use std::time::Instant;
+
+use glam::Vec3;
 
 pub use coarse::CoarseSolver;
 pub use error::RegisterError;
@@ -43,6 +46,38 @@ use crate::compute::Backend;
 use crate::mesh::{IndexedMesh, Mesh, VertexId};
 use crate::project::{Bvh, ProjectError};
 use correspond::Projector;
+
+/// The fine stage alone: per-vertex displacements moving `source` onto the target behind `bvh`
+/// (projection on `backend`). Returns the new positions of `source`'s vertices. [`register`] runs it
+/// after the coarse stage; alone it is regularized projection, for meshes already close to the
+/// target.
+pub fn fine_align(
+    backend: &Backend,
+    bvh: &Bvh,
+    source: &IndexedMesh,
+    options: &RegisterOptions,
+) -> Result<(Vec<Vec3>, FineReport), RegisterError> {
+    options.check()?;
+    graph::check_indices(source, "source")?;
+    let unit = source.mean_edge_length();
+    if !(unit.is_finite() && unit > 0.0) {
+        return Err(RegisterError::NoScale { which: "source" });
+    }
+    let surface = surface::Surface::new(&source.positions, &source.triangles, unit);
+    let projector = Projector {
+        backend,
+        bvh,
+        max_angle_degrees: options.max_angle_degrees,
+    };
+    let (positions, report) = fine::fine(&projector, &surface, &surface.rest, &options.fine)?;
+    Ok((
+        positions
+            .iter()
+            .map(|&p| surface.units.to_world(p))
+            .collect(),
+        report,
+    ))
+}
 
 /// Deforms `mesh` onto `target`: coarse graph registration, then fine alignment. Projection runs on
 /// `backend`; everything else on the CPU. Vertex ids and connectivity are untouched; only positions

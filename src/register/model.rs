@@ -6,7 +6,6 @@
 //! transformed vertex `A_i (v − g_i) + g_i + b_i` is `g_i + Σ_c φ_c x[12 i + 3 c + ·]`, so the
 //! Jacobian of a deformed vertex with respect to node `i` is `w_i φᵀ ⊗ I₃`. Every term of the
 //! coarse energy keeps that Kronecker shape, which is what makes assembly cheap.
-#![allow(clippy::wrong_self_convention)]
 
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;

@@ -54,6 +54,9 @@ pub struct CoarseOptions {
     /// uniformly spread subset fixes it as well as all vertices do (issue 5 allows it), at a
     /// fraction of the projection and assembly cost; the fine stage then fits every vertex.
     pub sample_spacing: f32,
+    /// Iterations of rigid point-to-plane ICP before the graph stages (0: none); see
+    /// `register::rigid`.
+    pub rigid_iterations: usize,
     /// How each Gauss-Newton system is solved.
     pub solver: LinearSolver,
     /// Conjugate gradients stop at this residual relative to `|Jᵀr|`.
@@ -84,11 +87,12 @@ impl Default for CoarseOptions {
             point_weight: 0.1,
             smooth_weight: 0.1,
             relax_threshold: 0.005,
-            max_stage_iterations: 20,
+            max_stage_iterations: 50,
             max_distance: f64::INFINITY,
             sample_spacing: 2.0,
+            rigid_iterations: 50,
             solver: LinearSolver::PreconditionedCg { refactor_after: 8 },
-            cg_tolerance: 1e-6,
+            cg_tolerance: 1e-4,
             max_cg_iterations: 200,
         }
     }

@@ -80,6 +80,9 @@ pub struct CoarseReport {
     pub factor_nonzeros: usize,
     /// Sparsity pattern and symbolic factorization (done once).
     pub setup: Duration,
+    /// Fit energy of each pose of the rigid pre-alignment (falling), and its time.
+    pub rigid_energies: Vec<f64>,
+    pub rigid_time: Duration,
     pub stages: Vec<StageReport>,
     pub times: StepTimes,
     /// Every stage converged.

@@ -2,8 +2,8 @@
 //! fail.
 //!
 //! Each attempt builds the whole result and checks it exactly: closed, manifold, consistently
-//! oriented and non-degenerate (`IndexedMesh::validate`), with the components and per-component
-//! Euler characteristics of Θ's isosurface. An attempt that falls short teaches the next one: a
+//! oriented and non-degenerate (the validation `Mesh::from_indexed` runs), with the components and
+//! per-component Euler characteristics of Θ's isosurface. An attempt that falls short teaches the next one: a
 //! local failure (a triangle that could not be split or triangulated, an invalid element) adds the
 //! cells around it to the seeds; a topology left different by a shallow difference makes the
 //! classification stricter (every difference deep, then every face the cut could not run along, then
@@ -96,7 +96,11 @@ fn resample(
             continue;
         }
         let clock = Instant::now();
-        let outcome = attempt_region(&grid, theta, &region, &mut checks);
+        let outcome = attempt_region(&grid, theta, &region, &mut checks).map(|(built, splits)| {
+            let recorded = record(&grid, &built, &splits, mesh.next_id());
+            let verdict = verify(&built.mesh, &recorded, &target);
+            (built, recorded, verdict)
+        });
         report.rebuild += clock.elapsed();
         match outcome {
             Err(points) => {
@@ -105,38 +109,35 @@ fn resample(
                     .push(format!("could not cut or fill near {:?}", points.first()));
                 extra.extend(points.iter().flat_map(|p| point_cells(&grid, p)));
             }
-            Ok((built, splits)) => {
-                let recorded = record(&grid, &built, &splits, mesh.next_id());
-                match verify(&built.mesh, &recorded, &target) {
-                    Ok(rebuilt) => {
-                        report.resampling = Resampling::Local { attempt };
-                        summarize(recorded, &mut report);
-                        report.euler = target;
-                        report.total = start.elapsed();
-                        return Ok((report, Some(rebuilt)));
-                    }
-                    Err(Failure::Topology) => {
-                        report
-                            .abandoned
-                            .push(String::from("topology differs from Θ's after re-sampling"));
-                    }
-                    Err(Failure::Element(vertices)) => {
-                        report.abandoned.push(format!(
-                            "invalid element at {:?}",
-                            vertices
-                                .iter()
-                                .filter_map(|&v| built.points.get(v as usize))
-                                .collect::<Vec<_>>()
-                        ));
-                        extra.extend(
-                            vertices
-                                .iter()
-                                .filter_map(|&v| built.points.get(v as usize))
-                                .flat_map(|p| point_cells(&grid, p)),
-                        );
-                    }
+            Ok((built, recorded, verdict)) => match verdict {
+                Ok(rebuilt) => {
+                    report.resampling = Resampling::Local { attempt };
+                    summarize(recorded, &mut report);
+                    report.euler = target;
+                    report.total = start.elapsed();
+                    return Ok((report, Some(rebuilt)));
                 }
-            }
+                Err(Failure::Topology) => {
+                    report
+                        .abandoned
+                        .push(String::from("topology differs from Θ's after re-sampling"));
+                }
+                Err(Failure::Element(vertices)) => {
+                    report.abandoned.push(format!(
+                        "invalid element at {:?}",
+                        vertices
+                            .iter()
+                            .filter_map(|&v| built.points.get(v as usize))
+                            .collect::<Vec<_>>()
+                    ));
+                    extra.extend(
+                        vertices
+                            .iter()
+                            .filter_map(|&v| built.points.get(v as usize))
+                            .flat_map(|p| point_cells(&grid, p)),
+                    );
+                }
+            },
         }
         extra = widen(&extra);
     }

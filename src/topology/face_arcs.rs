@@ -60,50 +60,43 @@ pub(crate) fn face_arcs(grid: &MeshGrid, face: &GridFace) -> Option<Vec<Arc>> {
         segments.push((a.0, [a.1, b.1]));
     }
     let mut used = vec![false; segments.len()];
-    let mut starts: Vec<Point> = segments
+    let mut starts: Vec<(GridEdge, Point)> = segments
         .iter()
         .flat_map(|(_, p)| *p)
-        .filter(|p| matches!(p, Point::Crossing { .. }))
+        .filter_map(|p| match p {
+            Point::Crossing { edge, .. } => Some((edge, p)),
+            _ => None,
+        })
         .collect();
-    starts.sort_unstable_by_key(|p| match p {
-        Point::Crossing { edge, .. } => *edge,
-        _ => GridEdge::new([0; 3], 0),
-    });
+    starts.sort_unstable();
     if starts.len() != crossings {
         return None;
     }
     let mut arcs: Vec<Arc> = Vec::new();
-    for start in starts {
-        if arcs.iter().any(|a| a.points.last() == Some(&start)) {
+    for (start_edge, start) in starts {
+        if arcs.iter().any(|a| a.ends[1] == start_edge) {
             continue;
         }
-        let mut arc = Arc {
-            ends: [edge_of(&start), edge_of(&start)],
-            points: vec![start],
-            triangles: Vec::new(),
-        };
+        let mut points = vec![start];
+        let mut triangles = Vec::new();
         let mut at = start;
-        loop {
+        let end_edge = loop {
             let s = (0..segments.len()).find(|&s| !used[s] && segments[s].1.contains(&at))?;
             used[s] = true;
             let (t, [p, q]) = segments[s];
             at = if p == at { q } else { p };
-            arc.points.push(at);
-            arc.triangles.push(t);
-            if matches!(at, Point::Crossing { .. }) {
-                break;
+            points.push(at);
+            triangles.push(t);
+            if let Point::Crossing { edge, .. } = at {
+                break edge;
             }
-        }
-        arc.ends[1] = edge_of(&at);
-        arcs.push(arc);
+        };
+        arcs.push(Arc {
+            ends: [start_edge, end_edge],
+            points,
+            triangles,
+        });
     }
     // A segment left over belongs to a closed loop on the face.
     used.iter().all(|&u| u).then_some(arcs)
-}
-
-fn edge_of(p: &Point) -> GridEdge {
-    match p {
-        Point::Crossing { edge, .. } => *edge,
-        _ => GridEdge::new([0; 3], 0),
-    }
 }

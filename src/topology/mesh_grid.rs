@@ -128,7 +128,6 @@ pub(crate) struct MeshGrid<'a> {
 /// What the cut reads besides the crossings.
 struct Tables {
     edges: EdgeTable,
-    segments: Vec<Segment>,
     /// Indices into `crossings.all()` of each triangle's crossings.
     by_triangle: Rows<u32>,
     /// The planes each edge pierces, in order from its first vertex.
@@ -141,14 +140,16 @@ impl Tables {
     fn new(mesh: &IndexedMesh, half: &Mesh, lattice: &LatticeMesh, crossings: &Crossings) -> Self {
         let edges = EdgeTable::new(mesh, half);
         let points = lattice.points();
-        let segments: Vec<Segment> = edges
+        let rows: Vec<Vec<Pierce>> = edges
             .verts
             .par_iter()
-            .map(|[a, b]| Segment::new(&points[*a as usize], &points[*b as usize]))
-            .collect();
-        let rows: Vec<Vec<Pierce>> = segments
-            .par_iter()
-            .map(|seg| {
+            .with_min_len(1024)
+            .map(|[a, b]| {
+                let (p, q) = (&points[*a as usize], &points[*b as usize]);
+                if p.cell == q.cell {
+                    return Vec::new();
+                }
+                let seg = Segment::new(p, q);
                 let mut row: Vec<Pierce> = (0..3)
                     .flat_map(|axis| {
                         seg.planes(axis).map(move |plane| Pierce {
@@ -180,7 +181,6 @@ impl Tables {
         pierced.par_sort_unstable();
         Self {
             edges,
-            segments,
             by_triangle: Rows::by_key(
                 crossings.all().iter().map(|c| c.triangle),
                 mesh.triangles.len(),
@@ -222,8 +222,10 @@ impl<'a> MeshGrid<'a> {
     }
 
     /// Mesh edge `e` in lattice units.
-    pub fn segment(&self, e: u32) -> &Segment {
-        &self.tables().segments[e as usize]
+    pub fn segment(&self, e: u32) -> Segment {
+        let [a, b] = self.edges().verts[e as usize];
+        let points = self.lattice.points();
+        Segment::new(&points[a as usize], &points[b as usize])
     }
 
     pub fn frame(&self) -> &GridFrame {

@@ -3,13 +3,17 @@
 //! isosurface — robustly: the result is always closed, 2-manifold and consistently oriented, with
 //! Θ's components and Euler characteristics (see [`constrain_topology`]).
 //!
-//! The steps (design note `notes/topology.md` §2):
-//! 1. rasterize the mesh on Θ's grid with exact, perturbed predicates ([`crate::grid`]);
-//! 2. classify the cells where mesh and Θ differ deeply, and grow that region until its boundary is
-//!    simple ([`classify`], [`region`]);
-//! 3. cut the mesh exactly along the region's boundary ([`clip`], [`cut`]);
-//! 4. fill the region with Θ's isosurface, stitched to the cut point for point ([`fill`]);
-//! 5. assemble, verify, record events ([`build`], [`record`], [`constrain`]).
+//! The steps, one module each (after the design note `notes/topology.md` §2):
+//! 1. `mesh_grid`: the mesh on Θ's grid, rasterized with exact, perturbed predicates
+//!    ([`crate::grid`]), and `segment`: the same predicates for mesh edges against grid planes;
+//! 2. `classify`: the cells where mesh and Θ differ deeply; `region`, `face_arcs`: growth of that
+//!    region until the cut can run along its boundary;
+//! 3. `clip`, `cut`, `triangulate`: the mesh cut exactly along the region's boundary;
+//! 4. `fill`: Θ's isosurface inside the region, stitched to the cut point for point;
+//! 5. `place`, `build`: positions and assembly; `constrain`: verification and the ladder of
+//!    attempts; `record`: events (paper §4.4);
+//!
+//! with `field` and `distance` for Θ itself and `isosurface` for the topology it prescribes.
 
 mod build;
 mod classify;

@@ -34,7 +34,8 @@ pub struct TopologyReport {
     pub abandoned: Vec<String>,
     /// Events of this call, in order (paper §4.4).
     pub events: EventList,
-    /// Time spent classifying and growing the region, cutting, filling and assembling, in total.
+    /// Time spent classifying and growing the region (over all attempts); cutting, filling,
+    /// assembling, recording and verifying (over all attempts); and in the whole call.
     pub classify: Duration,
     pub rebuild: Duration,
     pub total: Duration,

@@ -5,7 +5,7 @@
 //! One query per rayon task, each independent of the others, so results do not depend on the
 //! thread count.
 
-use glam::{Vec3, Vec3A};
+use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 
 use crate::project::options::QueryParams;
@@ -24,13 +24,18 @@ pub(in crate::project) fn closest_point_cpu(
         .collect()
 }
 
-/// Squared distance from `p` to `node`'s box (0 inside).
+/// Per child: the squared distance from `p` to the child's box (0 inside).
 #[inline(always)]
-fn box_distance2(node: &BvhNode, p: Vec3A) -> f32 {
-    let d = (Vec3A::from(node.min) - p)
-        .max(p - Vec3A::from(node.max))
-        .max(Vec3A::ZERO);
-    d.dot(d)
+fn box_distance2(node: &BvhNode, p: [Vec4; 3]) -> Vec4 {
+    let axis = |min: [f32; 4], max: [f32; 4], p: Vec4| {
+        let d = (Vec4::from(min) - p)
+            .max(p - Vec4::from(max))
+            .max(Vec4::ZERO);
+        d * d
+    };
+    axis(node.min_x, node.max_x, p[0])
+        + axis(node.min_y, node.max_y, p[1])
+        + axis(node.min_z, node.max_z, p[2])
 }
 
 /// The body of one kernel invocation. Ties in distance go to the lower triangle id, so the answer
@@ -41,16 +46,21 @@ fn closest_point(bvh: &Bvh, p: Vec3, params: &QueryParams) -> Correspondence {
     }
     let nodes = bvh.nodes();
     let triangles = bvh.triangles();
-    let pa = Vec3A::from(p);
+    let splat = p.to_array().map(Vec4::splat);
     let mut best = params.max_distance * params.max_distance;
     let mut best_id = u32::MAX;
     let mut best_slot = u32::MAX;
     let mut stack = [(0u32, 0.0f32); Bvh::STACK_SIZE];
     let mut sp = 0usize;
-    let mut node = nodes[0];
+    let mut node: &BvhNode = &nodes[0];
     loop {
-        if node.is_leaf() {
-            for slot in node.index..node.index + node.count {
+        let keys = box_distance2(node, splat);
+        for k in 0..4 {
+            let count = node.count[k];
+            if count == 0 || count == BvhNode::EMPTY || keys[k] > best {
+                continue;
+            }
+            for slot in node.child[k]..node.child[k] + count {
                 let tri = &triangles[slot as usize];
                 let q = closest_on_triangle(p, tri).point;
                 let distance2 = (p - q).length_squared();
@@ -60,27 +70,29 @@ fn closest_point(bvh: &Bvh, p: Vec3, params: &QueryParams) -> Correspondence {
                     best_slot = slot;
                 }
             }
-        } else {
-            let left = node.index as usize;
-            let key_left = box_distance2(&nodes[left], pa);
-            let key_right = box_distance2(&nodes[left + 1], pa);
-            let hit_left = key_left <= best;
-            let hit_right = key_right <= best;
-            if hit_left && hit_right {
-                let (near, far, far_key) = if key_right < key_left {
-                    (left + 1, left, key_left)
-                } else {
-                    (left, left + 1, key_right)
-                };
-                stack[sp] = (far as u32, far_key);
+        }
+        let mut near = [(0u32, 0.0f32); 4];
+        let mut n_near = 0;
+        for k in 0..4 {
+            let key = keys[k];
+            if node.count[k] == 0 && key <= best {
+                // Insertion by key, nearest first.
+                let mut j = n_near;
+                while j > 0 && near[j - 1].1 > key {
+                    near[j] = near[j - 1];
+                    j -= 1;
+                }
+                near[j] = (node.child[k], key);
+                n_near += 1;
+            }
+        }
+        if n_near > 0 {
+            for j in (1..n_near).rev() {
+                stack[sp] = near[j];
                 sp += 1;
-                node = nodes[near];
-                continue;
             }
-            if hit_left || hit_right {
-                node = nodes[if hit_left { left } else { left + 1 }];
-                continue;
-            }
+            node = &nodes[near[0].0 as usize];
+            continue;
         }
         loop {
             if sp == 0 {
@@ -89,7 +101,7 @@ fn closest_point(bvh: &Bvh, p: Vec3, params: &QueryParams) -> Correspondence {
             sp -= 1;
             let (next, key) = stack[sp];
             if key <= best {
-                node = nodes[next as usize];
+                node = &nodes[next as usize];
                 break;
             }
         }

@@ -9,9 +9,9 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::project::options::QueryParams;
-use crate::project::slab::{MISS_KEY, Slabs};
+use crate::project::slab::Slabs;
 use crate::project::watertight::Shear;
-use crate::project::{Bvh, Correspondence, Status};
+use crate::project::{Bvh, BvhNode, Correspondence, Status};
 
 /// Projects every point along its direction (unit, or zero for a query to skip).
 pub(in crate::project) fn project_cpu(
@@ -64,9 +64,9 @@ pub(in crate::project) struct LineHit {
 /// `|t| <= max_distance`; ties go to the lower triangle id, so the answer does not depend on the
 /// order in which leaves are visited.
 ///
-/// Nodes are visited nearest first; a node's key is the least `|t|` at which the line is inside its
-/// box, and nodes whose key exceeds the best `|t|` so far are skipped.
-#[inline(never)]
+/// At each node the four children's keys (the least `|t|` at which the line is inside the box)
+/// are computed at once; leaf children are tested on the spot, then interior children whose key
+/// does not exceed the best `|t|` so far are visited nearest first, the others kept on the stack.
 pub(in crate::project) fn nearest_hit(
     bvh: &Bvh,
     origin: Vec3,
@@ -83,10 +83,16 @@ pub(in crate::project) fn nearest_hit(
     let mut found: Option<LineHit> = None;
     let mut stack = [(0u32, 0.0f32); Bvh::STACK_SIZE];
     let mut sp = 0usize;
-    let mut node = nodes[0];
+    let mut node: &BvhNode = &nodes[0];
     loop {
-        if node.is_leaf() {
-            for slot in node.index..node.index + node.count {
+        let (keys, hits) = slabs.keys(node, floor.max(-best), best);
+        let hits = hits.bitmask();
+        for k in 0..4 {
+            let count = node.count[k];
+            if hits & (1 << k) == 0 || count == 0 || count == BvhNode::EMPTY {
+                continue;
+            }
+            for slot in node.child[k]..node.child[k] + count {
                 let tri = &triangles[slot as usize];
                 let Some(hit) = shear.intersect(tri) else {
                     continue;
@@ -102,28 +108,29 @@ pub(in crate::project) fn nearest_hit(
                     });
                 }
             }
-        } else {
-            let lo = floor.max(-best);
-            let left = node.index as usize;
-            let key_left = slabs.key(&nodes[left], lo, best);
-            let key_right = slabs.key(&nodes[left + 1], lo, best);
-            let hit_left = key_left != MISS_KEY;
-            let hit_right = key_right != MISS_KEY;
-            if hit_left && hit_right {
-                let (near, far, far_key) = if key_right < key_left {
-                    (left + 1, left, key_left)
-                } else {
-                    (left, left + 1, key_right)
-                };
-                stack[sp] = (far as u32, far_key);
+        }
+        let mut near = [(0u32, 0.0f32); 4];
+        let mut n_near = 0;
+        for k in 0..4 {
+            let key = keys[k];
+            if hits & (1 << k) != 0 && node.count[k] == 0 && key <= best {
+                // Insertion by key, nearest first.
+                let mut j = n_near;
+                while j > 0 && near[j - 1].1 > key {
+                    near[j] = near[j - 1];
+                    j -= 1;
+                }
+                near[j] = (node.child[k], key);
+                n_near += 1;
+            }
+        }
+        if n_near > 0 {
+            for j in (1..n_near).rev() {
+                stack[sp] = near[j];
                 sp += 1;
-                node = nodes[near];
-                continue;
             }
-            if hit_left || hit_right {
-                node = nodes[if hit_left { left } else { left + 1 }];
-                continue;
-            }
+            node = &nodes[near[0].0 as usize];
+            continue;
         }
         loop {
             if sp == 0 {
@@ -132,12 +139,9 @@ pub(in crate::project) fn nearest_hit(
             sp -= 1;
             let (next, key) = stack[sp];
             if key <= best {
-                node = nodes[next as usize];
+                node = &nodes[next as usize];
                 break;
             }
         }
     }
 }
-
-pub static NODES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-pub static TRIS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);

@@ -1,0 +1,187 @@
+//! Properties of mesh improvement that hold on any input: a mesh that meets the criteria is left alone
+//! (no mutation at all), the result does not depend on the thread count or on the mesh's scale, the
+//! deviation limit really stops collapses that would move the surface, and the Hausdorff tool measures
+//! what it claims.
+
+use glam::Vec3;
+use surftrack::improve::{
+    ImproveError, ImproveParams, Operation, Problem, Refusal, SurfaceDistance, assess, improve,
+    one_sided_hausdorff, point_triangle_distance,
+};
+use surftrack::mesh::{IndexedMesh, Mesh};
+use surftrack::synth::{Scene, SynthOptions, extract, plan};
+
+/// A raw marching-cubes frame, small enough for quick tests.
+fn raw_frame(scene: Scene) -> IndexedMesh {
+    let options = SynthOptions {
+        resolution: 40,
+        frames: 4,
+    };
+    extract(&plan(scene, &options).expect("plan")[1]).expect("extract")
+}
+
+/// Improves `input` and returns the result with the recorded journal's length.
+fn improved(input: &IndexedMesh, params: &ImproveParams) -> (IndexedMesh, usize) {
+    let mut mesh = Mesh::from_indexed(input).expect("valid input");
+    mesh.record_mutations();
+    improve(&mut mesh, params).expect("improve");
+    let journal = mesh.take_journal().len();
+    (mesh.to_indexed(), journal)
+}
+
+#[test]
+fn meshes_meeting_the_criteria_are_left_untouched() {
+    let meshes = [
+        IndexedMesh::icosphere(Vec3::new(1.0, 2.0, 3.0), 2.0, 3),
+        IndexedMesh::torus(1.0, 0.35, 48, 18),
+    ];
+    for input in meshes {
+        let params = ImproveParams::new(input.mean_edge_length());
+        let before = assess(&input, &params);
+        assert_eq!(before.failing, 0, "the test mesh itself must pass");
+        assert_eq!(before.edge_out_of_band, 0);
+        let (output, journal) = improved(&input, &params);
+        assert_eq!(journal, 0, "a good mesh records no mutation");
+        assert_eq!(output.positions, input.positions);
+        assert_eq!(output.triangles, input.triangles);
+    }
+}
+
+#[test]
+fn the_result_does_not_depend_on_the_thread_count() {
+    let input = raw_frame(Scene::Blobs);
+    let params = ImproveParams::new(input.mean_edge_length());
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool")
+            .install(|| {
+                let mut mesh = Mesh::from_indexed(&input).expect("valid input");
+                mesh.record_mutations();
+                let report = improve(&mut mesh, &params).expect("improve");
+                (mesh.to_indexed(), mesh.take_journal(), report)
+            })
+    };
+    let (one, journal_one, report_one) = run(1);
+    let (three, journal_three, report_three) = run(3);
+    assert!(report_one.collapses > 0, "the frame needed work");
+    assert_eq!(one, three);
+    assert_eq!(journal_one, journal_three);
+    assert_eq!(report_one, report_three);
+}
+
+#[test]
+fn scaling_the_mesh_and_the_target_length_scales_the_result() {
+    let input = raw_frame(Scene::Rigid);
+    let l = input.mean_edge_length();
+    // A power of two scales every float exactly, so every decision must come out the same.
+    let s = 1024.0;
+    let mut scaled = input.clone();
+    for p in &mut scaled.positions {
+        *p *= s;
+    }
+    let (small, small_journal) = improved(&input, &ImproveParams::new(l));
+    let (large, large_journal) = improved(&scaled, &ImproveParams::new(l * s));
+    assert!(small_journal > 0);
+    assert_eq!(small_journal, large_journal);
+    assert_eq!(small.triangles, large.triangles);
+    assert_eq!(small.ids, large.ids);
+    for (a, b) in small.positions.iter().zip(&large.positions) {
+        assert_eq!(*a * s, *b);
+    }
+}
+
+#[test]
+fn the_deviation_limit_stops_collapses_that_would_move_the_surface() {
+    // A sphere with one edge split close to an end: the short edge lies on a curved surface, so
+    // collapsing it (or its end along another edge) moves the surface a little.
+    let input = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 2);
+    let l = input.mean_edge_length();
+    let mut mesh = Mesh::from_indexed(&input).expect("valid");
+    let h = mesh.edges().next().expect("an edge");
+    mesh.split_edge(h, 0.1).expect("split");
+    let with_short_edge = mesh.to_indexed();
+
+    let mut strict = ImproveParams::new(l);
+    strict.max_deviation = 0.0;
+    let mut mesh = Mesh::from_indexed(&with_short_edge).expect("valid");
+    let report = improve(&mut mesh, &strict).expect("improve");
+    assert_eq!(report.collapses, 0);
+    let short = report
+        .unfixed
+        .iter()
+        .find(|u| u.problem == Problem::ShortEdge)
+        .expect("the short edge is reported");
+    assert!(
+        short
+            .refusals
+            .contains(&(Operation::Collapse, Refusal::Deviation))
+    );
+
+    let mut mesh = Mesh::from_indexed(&with_short_edge).expect("valid");
+    let report = improve(&mut mesh, &ImproveParams::new(l)).expect("improve");
+    assert!(report.collapses >= 1, "the default limit allows the fix");
+    assert!(report.unfixed.is_empty(), "{:?}", report.unfixed);
+    let moved = one_sided_hausdorff(&mesh.to_indexed(), &with_short_edge);
+    assert!(moved > 0.0 && moved <= 2.0 * 0.0225 * l, "moved {moved}");
+}
+
+#[test]
+fn bad_parameters_are_refused_before_any_work() {
+    let input = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 1);
+    let mut mesh = Mesh::from_indexed(&input).expect("valid");
+    mesh.record_mutations();
+    type Spoil = fn(&mut ImproveParams);
+    let cases: [(&str, Spoil); 4] = [
+        ("edge_length", |p| p.edge_length = 0.0),
+        ("min_angle_degrees", |p| p.min_angle_degrees = 75.0),
+        ("edge_ratio", |p| p.edge_ratio = 1.5),
+        ("max_deviation", |p| p.max_deviation = f32::NAN),
+    ];
+    for (name, spoil) in cases {
+        let mut params = ImproveParams::new(1.0);
+        spoil(&mut params);
+        match improve(&mut mesh, &params) {
+            Err(ImproveError::Parameter { name: got, .. }) => assert_eq!(got, name),
+            other => panic!("{name}: {other:?}"),
+        }
+    }
+    assert!(mesh.take_journal().is_empty());
+}
+
+#[test]
+fn surface_distance_matches_brute_force_and_hausdorff_sees_a_shift() {
+    let sphere = raw_frame(Scene::Merge);
+    let grid = SurfaceDistance::new(&sphere);
+    let brute = |p: Vec3| {
+        sphere
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| sphere.positions[v as usize]);
+                point_triangle_distance(p, a, b, c)
+            })
+            .fold(f32::INFINITY, f32::min)
+    };
+    let l = sphere.mean_edge_length();
+    for k in 0..200 {
+        let v = sphere.positions[(k * 97) % sphere.positions.len()];
+        let offset = Vec3::new(
+            ((k * 13) % 7) as f32 - 3.0,
+            ((k * 5) % 9) as f32 - 4.0,
+            ((k * 11) % 5) as f32 - 2.0,
+        ) * (0.4 * l);
+        let p = v + offset * (k % 4) as f32;
+        assert!((grid.distance(p) - brute(p)).abs() <= 1e-6 * (1.0 + brute(p)));
+    }
+    let itself = one_sided_hausdorff(&sphere, &sphere);
+    assert!(itself <= 1e-5 * l, "a mesh is {itself} from itself");
+    let mut shifted = sphere.clone();
+    let d = 0.3 * l;
+    for p in &mut shifted.positions {
+        p.x += d;
+    }
+    let h = one_sided_hausdorff(&shifted, &sphere);
+    assert!(h > 0.5 * d && h <= d * 1.0001, "{h} vs shift {d}");
+}
