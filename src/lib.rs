@@ -13,5 +13,6 @@ pub mod project;
 pub mod propagate;
 pub mod register;
 pub mod synth;
+pub mod reconcile;
 pub mod topology;
 pub mod track;

@@ -1,7 +1,8 @@
 //! Algorithm 1 of the paper (§4.5): one tracked mesh `M` carried through the input frames —
 //! register to each target (coarse, fine), improve, merge self-intersections
 //! (`ConstrainTopology(M, Φ(M))`), take the target's topology (`ConstrainTopology(M, Φ(T_j))`),
-//! improve — while every vertex created or destroyed goes into the frame's event list (§4.4).
+//! match the components too small for the grid to see (`reconcile`), improve — while every vertex
+//! created or destroyed goes into the frame's event list (§4.4).
 //!
 //! The tracker holds one frame at a time, so memory follows the frame size, never the sequence
 //! length. At the end of every frame the mesh is compacted, so its whole state is what the written
@@ -13,6 +14,7 @@ use crate::grid::{GridFrame, RasterError};
 use crate::improve::{ImproveError, ImproveParams, improve};
 use crate::mesh::{IndexedMesh, Mesh, MeshError};
 use crate::project::{Bvh, ProjectError, closest_points};
+use crate::reconcile::{ReconcileCounts, ReconcileError, reconcile_components};
 use crate::register::{RegisterError, RegisterOptions, register};
 use crate::topology::{Field, TopologyError, TopologyOptions, constrain_topology};
 use serde::{Deserialize, Serialize};
@@ -33,12 +35,21 @@ pub struct TrackOptions {
     pub topology: TopologyOptions,
 }
 
+/// The tracker's per-operation deviation bound of mesh improvement, in units of `L` (see
+/// [`ImproveParams::max_deviation`]). A lone improvement keeps a raw frame within a few percent of
+/// `L`; inside tracking the registration of the next frame fits the surface to its target again, and
+/// the slivers a topology patch leaves on real data (fluid caches) are only removed with more room.
+pub const TRACK_MAX_DEVIATION: f32 = 0.1;
+
 impl Default for TrackOptions {
     fn default() -> Self {
         Self {
             edge_length: None,
             grid_factor: 1.0,
-            improve: ImproveParams::new(1.0),
+            improve: ImproveParams {
+                max_deviation: TRACK_MAX_DEVIATION,
+                ..ImproveParams::new(1.0)
+            },
             register: RegisterOptions::default(),
             topology: TopologyOptions::default(),
         }
@@ -57,6 +68,11 @@ pub enum TrackError {
     Topology { frame: usize, source: TopologyError },
     #[error("frame {frame}: {source}")]
     Project { frame: usize, source: ProjectError },
+    #[error("frame {frame}: matching components below the grid's resolution: {source}")]
+    Reconcile {
+        frame: usize,
+        source: ReconcileError,
+    },
     #[error("frame {frame}: cannot place the topology grid: {source}")]
     Grid { frame: usize, source: RasterError },
     #[error("the target edge length {0} is not a positive finite number")]
@@ -70,6 +86,8 @@ pub struct StageTimes {
     pub improve: f64,
     pub topology_self: f64,
     pub topology_target: f64,
+    /// Matching the components the topology grid cannot see (`reconcile`).
+    pub reconcile: f64,
     pub residual: f64,
     pub total: f64,
 }
@@ -112,6 +130,8 @@ pub struct FrameLog {
     pub residual_max: f64,
     pub registration_converged: bool,
     pub topology_changed: bool,
+    /// Components below the grid's resolution deleted, copied in or replaced.
+    pub reconciled: ReconcileCounts,
     pub times: StageTimes,
 }
 
@@ -156,7 +176,8 @@ impl Tracker {
             improve: ms(improve_time),
             ..StageTimes::default()
         };
-        let (mean, max) = tracker.residual(backend, first, 0, &mut times)?;
+        let bvh = Bvh::build(first).map_err(|source| TrackError::Project { frame: 0, source })?;
+        let (mean, max) = tracker.residual(backend, &bvh, 0, &mut times)?;
         times.total = ms(start.elapsed());
         let log = tracker.log(0, &events, (mean, max), true, false, times);
         Ok((tracker, events, log))
@@ -246,6 +267,19 @@ impl Tracker {
         events.extend(EventList::drain(&mut self.mesh));
         let target_changed = constrained.changed();
         events.extend(constrained.events);
+
+        let t = Instant::now();
+        let bvh = Bvh::build(target).map_err(|source| TrackError::Project { frame, source })?;
+        let (reconciled, counts) = reconcile_components(
+            backend,
+            &mut self.mesh,
+            target,
+            &bvh,
+            self.grid.spacing(),
+        )
+        .map_err(|source| TrackError::Reconcile { frame, source })?;
+        times.reconcile = ms(t.elapsed());
+        events.extend(reconciled);
         self.mesh.record_mutations();
 
         let t = Instant::now();
@@ -255,16 +289,17 @@ impl Tracker {
         events.extend(EventList::drain(&mut self.mesh));
         self.mesh.compact();
 
-        let residual = self.residual(backend, target, frame, &mut times)?;
+        let residual = self.residual(backend, &bvh, frame, &mut times)?;
         times.total = ms(start.elapsed());
-        let log = self.log(
+        let mut log = self.log(
             frame,
             &events,
             residual,
             registration.converged(),
-            self_changed || target_changed,
+            self_changed || target_changed || counts.changed(),
             times,
         );
+        log.reconciled = counts;
         Ok((events, log))
     }
 
@@ -272,19 +307,18 @@ impl Tracker {
     fn residual(
         &self,
         backend: &Backend,
-        target: &IndexedMesh,
+        bvh: &Bvh,
         frame: usize,
         times: &mut StageTimes,
     ) -> Result<(f64, f64), TrackError> {
         let t = Instant::now();
         let project = |source| TrackError::Project { frame, source };
-        let bvh = Bvh::build(target).map_err(project)?;
         let points: Vec<glam::Vec3> = self
             .mesh
             .vertices()
             .map(|v| self.mesh.position(v))
             .collect();
-        let nearest = closest_points(backend, &bvh, &points, f32::INFINITY).map_err(project)?;
+        let nearest = closest_points(backend, bvh, &points, f32::INFINITY).map_err(project)?;
         let l = f64::from(self.params.edge_length);
         let (mut sum, mut max) = (0.0f64, 0.0f64);
         for n in &nearest {
@@ -314,6 +348,7 @@ impl Tracker {
             residual_max,
             registration_converged,
             topology_changed,
+            reconciled: ReconcileCounts::default(),
             times,
         }
     }

@@ -14,7 +14,7 @@ use surftrack::io::{
     write_ply,
 };
 use surftrack::mesh::IndexedMesh;
-use surftrack::track::{FrameLog, TrackOptions, Tracker};
+use surftrack::track::{FrameLog, TRACK_MAX_DEVIATION, TrackOptions, Tracker};
 
 /// Version of `track.json`.
 const STATE_VERSION: u32 = 1;
@@ -67,6 +67,11 @@ pub struct MethodParams {
     /// Longest : shortest edge ratio (§4.1).
     #[arg(long, default_value_t = 4.0)]
     pub edge_ratio: f32,
+    /// Largest distance, in units of L, one collapse or flip may move the surface (§4.1). Looser than
+    /// a lone improvement's default: the next frame's registration fits the surface to its target
+    /// again, and slivers left by topology patches need room to be removed.
+    #[arg(long, default_value_t = TRACK_MAX_DEVIATION)]
+    pub max_deviation: f32,
     /// Deformation-graph node spacing in units of L (§4.2).
     #[arg(long, default_value_t = 4.0)]
     pub node_spacing: f32,
@@ -97,6 +102,7 @@ impl MethodParams {
         o.improve.min_angle_degrees = self.min_angle;
         o.improve.min_dihedral_degrees = self.min_dihedral;
         o.improve.edge_ratio = self.edge_ratio;
+        o.improve.max_deviation = self.max_deviation;
         o.register.graph.spacing = self.node_spacing;
         o.register.max_angle_degrees = self.max_normal_angle;
         o.register.coarse.alpha_fit = self.alpha_fit;

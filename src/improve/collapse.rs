@@ -7,7 +7,7 @@
 //! behind, which the queue then fixes like any other, and guarding it blocks more fixes than it saves.
 
 use super::deviation::within;
-use super::geometry::{face_normal, folds_beyond};
+use super::geometry::{face_normal, fold, folds_worse, reliable_normal};
 use super::params::Limits;
 use super::report::Refusal;
 use crate::mesh::{HalfEdgeId, Mesh, VertexId};
@@ -20,10 +20,15 @@ struct FanFace {
     y: u32,
     corners: [Vec3; 3],
     normal: Vec3,
-    outside: Vec3,
+    outside: Option<Vec3>,
 }
 
 /// Whether the edge of `h` may be collapsed to its midpoint.
+///
+/// Faces whose own normal is unreliable (slivers, see `geometry::reliable_normal`) are compared with
+/// the area-weighted normal of the whole neighbourhood instead, and a fold past the dihedral limit is
+/// refused only when the collapse makes the neighbourhood's sharpest fold sharper: without both rules
+/// a zero-length edge between two slivers could never be collapsed.
 pub(super) fn check_collapse(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<(), Refusal> {
     let t = mesh.twin(h);
     let (a, b) = (mesh.origin(h), mesh.target(h));
@@ -38,9 +43,11 @@ pub(super) fn check_collapse(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Res
     }
     let m = (mesh.position(a) + mesh.position(b)) * 0.5;
     let (fa, fb) = (mesh.face(h), mesh.face(t));
-    let mut old = Vec::with_capacity(mesh.valence(a) + mesh.valence(b));
-    let mut fan = Vec::with_capacity(mesh.valence(a) + mesh.valence(b));
-    for e in mesh.outgoing(a).chain(mesh.outgoing(b)) {
+    let star: Vec<HalfEdgeId> = mesh.outgoing(a).chain(mesh.outgoing(b)).collect();
+    let mut region: Option<Vec3> = None;
+    let mut old = Vec::with_capacity(star.len());
+    let mut fan = Vec::with_capacity(star.len());
+    for &e in &star {
         let f = mesh.face(e);
         if f == fa || f == fb {
             continue;
@@ -50,7 +57,15 @@ pub(super) fn check_collapse(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Res
         let (x, y) = (mesh.target(e), mesh.origin(mesh.prev(e)));
         let new = [m, mesh.position(x), mesh.position(y)];
         let normal = face_normal(new);
-        if normal.dot(face_normal(corners)) <= 0.0 {
+        let reference = match reliable_normal(corners) {
+            Some(n) => n,
+            None => *region.get_or_insert_with(|| {
+                star.iter()
+                    .map(|&e| face_normal(mesh.face_positions(mesh.face(e))))
+                    .sum()
+            }),
+        };
+        if normal.dot(reference) <= 0.0 {
             return Err(Refusal::NormalFlip);
         }
         if m.distance(new[1]) > limits.max_edge {
@@ -62,16 +77,22 @@ pub(super) fn check_collapse(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Res
             y: y.0,
             corners: new,
             normal,
-            outside: face_normal(beyond),
+            outside: reliable_normal(beyond),
         });
     }
+    let mut after = -1.0f32;
     for f in &fan {
         let next = fan.iter().find(|g| g.x == f.y).map(|g| g.normal);
-        for other in [Some(f.outside), next].into_iter().flatten() {
-            if folds_beyond(f.normal, other, limits.cos_min_dihedral) {
-                return Err(Refusal::SharpDihedral);
-            }
+        let own = reliable_normal(f.corners);
+        for other in [f.outside, next] {
+            after = after.max(fold(own, other).unwrap_or(-1.0));
         }
+    }
+    // The folds before the collapse matter only when the new ones pass the limit.
+    if after > limits.cos_min_dihedral
+        && folds_worse(after, sharpest_fold(mesh, &star), limits.cos_min_dihedral)
+    {
+        return Err(Refusal::SharpDihedral);
     }
     old.extend([mesh.face_positions(fa), mesh.face_positions(fb)]);
     let new: Vec<[Vec3; 3]> = fan.iter().map(|f| f.corners).collect();
@@ -79,4 +100,17 @@ pub(super) fn check_collapse(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Res
         return Err(Refusal::Deviation);
     }
     Ok(())
+}
+
+/// The sharpest fold (see `geometry::fold`) between a face of `star` and any face next to it.
+fn sharpest_fold(mesh: &Mesh, star: &[HalfEdgeId]) -> f32 {
+    let mut sharpest = -1.0f32;
+    for &e in star {
+        let own = reliable_normal(mesh.face_positions(mesh.face(e)));
+        for k in [e, mesh.next(e), mesh.prev(e)] {
+            let beyond = reliable_normal(mesh.face_positions(mesh.face(mesh.twin(k))));
+            sharpest = sharpest.max(fold(own, beyond).unwrap_or(-1.0));
+        }
+    }
+    sharpest
 }

@@ -4,7 +4,7 @@
 //! element and only kept when they raise the smallest angle of the pair.
 
 use super::deviation::within;
-use super::geometry::{face_normal, folds_beyond, min_angle_sine};
+use super::geometry::{face_normal, fold, folds_worse, min_angle_sine, reliable_normal};
 use super::params::Limits;
 use super::report::Refusal;
 use crate::mesh::{HalfEdgeId, Mesh};
@@ -32,7 +32,10 @@ pub(super) fn check_flip(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<
     if worst(&new) < worst(&old) + MIN_GAIN {
         return Err(Refusal::NoGain);
     }
-    let old_normals = old.map(face_normal);
+    // A sliver's normal is noise (see `geometry::reliable_normal`): the pair's summed normal
+    // stands in for it.
+    let pair = face_normal(old[0]) + face_normal(old[1]);
+    let old_normals = old.map(|f| reliable_normal(f).unwrap_or(pair));
     let new_normals = new.map(face_normal);
     if new_normals
         .iter()
@@ -43,21 +46,39 @@ pub(super) fn check_flip(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<
     if pc.distance(pd) > limits.max_edge {
         return Err(Refusal::LongEdge);
     }
-    let beyond = |e: HalfEdgeId| face_normal(mesh.face_positions(mesh.face(mesh.twin(e))));
+    let beyond = |e: HalfEdgeId| reliable_normal(mesh.face_positions(mesh.face(mesh.twin(e))));
+    let [next_h, prev_h, next_t, prev_t] =
+        [mesh.next(h), mesh.prev(h), mesh.next(t), mesh.prev(t)].map(beyond);
     // new[0] = (d, c, a) borders the faces beyond (c, a) and (a, d); new[1] = (c, d, b) those
-    // beyond (d, b) and (b, c).
-    let pairs = [
-        (new_normals[0], new_normals[1]),
-        (new_normals[0], beyond(mesh.prev(h))),
-        (new_normals[0], beyond(mesh.next(t))),
-        (new_normals[1], beyond(mesh.prev(t))),
-        (new_normals[1], beyond(mesh.next(h))),
-    ];
-    if pairs
-        .iter()
-        .any(|&(n, m)| folds_beyond(n, m, limits.cos_min_dihedral))
-    {
-        return Err(Refusal::SharpDihedral);
+    // beyond (d, b) and (b, c). old[0] = (a, b, c) borders the faces beyond (b, c) and (c, a);
+    // old[1] = (b, a, d) those beyond (a, d) and (d, b).
+    let sharpest = |pairs: [(Option<Vec3>, Option<Vec3>); 5]| {
+        pairs
+            .iter()
+            .map(|&(x, y)| fold(x, y).unwrap_or(-1.0))
+            .fold(-1.0f32, f32::max)
+    };
+    let [new0, new1] = new.map(reliable_normal);
+    let after = sharpest([
+        (new0, new1),
+        (new0, prev_h),
+        (new0, next_t),
+        (new1, prev_t),
+        (new1, next_h),
+    ]);
+    // The folds before the flip matter only when the new ones pass the limit.
+    if after > limits.cos_min_dihedral {
+        let [old0, old1] = old.map(reliable_normal);
+        let before = sharpest([
+            (old0, old1),
+            (old0, next_h),
+            (old0, prev_h),
+            (old1, next_t),
+            (old1, prev_t),
+        ]);
+        if folds_worse(after, before, limits.cos_min_dihedral) {
+            return Err(Refusal::SharpDihedral);
+        }
     }
     if !within(&new, &old, limits.deviation) {
         return Err(Refusal::Deviation);

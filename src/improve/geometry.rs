@@ -23,9 +23,9 @@ pub(super) fn dihedral_degrees(first: Vec3, second: Vec3) -> Option<f32> {
 /// The smallest angle is at most 60°, where the sine grows with the angle, so comparing sines
 /// compares smallest angles without inverse trigonometry.
 pub(super) fn min_angle_sine([a, b, c]: [Vec3; 3]) -> f32 {
-    let mut l = [a.distance(b), b.distance(c), c.distance(a)];
-    l.sort_by(f32::total_cmp);
-    let product = l[1] * l[2];
+    let [x, y, z] = [a.distance(b), b.distance(c), c.distance(a)];
+    // The largest pairwise product is the product of the two longest edges.
+    let product = (x * y).max(y * z).max(z * x);
     if product > 0.0 {
         (b - a).cross(c - a).length() / product
     } else {
@@ -62,4 +62,31 @@ pub(super) fn has_angle_below(p: [Vec3; 3], cos_limit: f32) -> bool {
 pub(super) fn folds_beyond(first: Vec3, second: Vec3, cos_limit: f32) -> bool {
     let n = (first.length_squared() * second.length_squared()).sqrt();
     n == 0.0 || first.dot(second) < -cos_limit * n
+}
+
+/// Below this sine of its smallest angle (about 0.6°) a face's normal is dominated by rounding: a
+/// sliver left by a topology patch or a marching-cubes frame says nothing about which way the
+/// surface faces, so the checks below do not trust it.
+const RELIABLE_NORMAL_SINE: f32 = 0.01;
+
+/// The face's normal when its shape makes it meaningful (see `RELIABLE_NORMAL_SINE`).
+pub(super) fn reliable_normal(p: [Vec3; 3]) -> Option<Vec3> {
+    (min_angle_sine(p) >= RELIABLE_NORMAL_SINE).then(|| face_normal(p))
+}
+
+/// How sharply two faces fold at their shared edge: the negated cosine between their normals, so
+/// −1 where they are coplanar and 1 where they fold flat onto each other. `None` when either normal
+/// is unreliable. A fold sharper than the dihedral limit has a measure above its cosine.
+pub(super) fn fold(first: Option<Vec3>, second: Option<Vec3>) -> Option<f32> {
+    let (a, b) = (first?, second?);
+    let n = (a.length_squared() * b.length_squared()).sqrt();
+    (n > 0.0).then(|| -a.dot(b) / n)
+}
+
+/// Whether an operation whose sharpest new fold is `after` must be refused, given `before`, the
+/// sharpest fold among the faces it replaces and their neighbours: a fold beyond the dihedral limit
+/// (cosine `cos_limit`) is refused only when it is sharper than what was there, so a crease that is
+/// already in the mesh does not freeze every fix around it.
+pub(super) fn folds_worse(after: f32, before: f32, cos_limit: f32) -> bool {
+    after > cos_limit && after > before
 }

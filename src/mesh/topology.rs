@@ -81,6 +81,36 @@ impl IndexedMesh {
         Topology { components }
     }
 
+    /// The component of every vertex, numbered as in [`IndexedMesh::topology`] (by smallest vertex
+    /// index), and the number of components; vertices referenced by no triangle get `u32::MAX`.
+    pub fn component_labels(&self) -> (Vec<u32>, usize) {
+        let n = self.positions.len();
+        let mut parent: Vec<u32> = (0..n as u32).collect();
+        let mut used = vec![false; n];
+        for tri in &self.triangles {
+            union(&mut parent, tri[0], tri[1]);
+            union(&mut parent, tri[1], tri[2]);
+            for &v in tri {
+                used[v as usize] = true;
+            }
+        }
+        let mut slot = vec![u32::MAX; n];
+        let mut labels = vec![u32::MAX; n];
+        let mut count = 0u32;
+        for v in 0..n {
+            if !used[v] {
+                continue;
+            }
+            let root = find(&mut parent, v as u32) as usize;
+            if slot[root] == u32::MAX {
+                slot[root] = count;
+                count += 1;
+            }
+            labels[v] = slot[root];
+        }
+        (labels, count as usize)
+    }
+
     /// Mean length of the undirected edges: the unit every relative tolerance is measured in.
     pub fn mean_edge_length(&self) -> f32 {
         let edges = self.sorted_edges();

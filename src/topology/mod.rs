@@ -28,6 +28,7 @@ mod fill;
 mod isosurface;
 mod keys;
 mod mesh_grid;
+pub(crate) mod nearest;
 mod options;
 mod place;
 mod points;

@@ -10,13 +10,16 @@
 //! * A new fill vertex takes, going forward, the average of its neighbours already visited by the
 //!   same march over the fill from its boundary, outermost first. No backward rule.
 //!
-//! A patch with no boundary (a component appearing or vanishing whole) has nothing to average: its
-//! vertices get events without rules, and new ones zero attribute values.
+//! A patch with no boundary (a component appearing or vanishing whole) has nothing to average: each
+//! of its vertices copies the nearest vertex that survives the change (the droplet takes the data of
+//! the surface it comes from), so every vertex of every frame holds a value and a constant stays
+//! constant. Only when nothing survives are the events left without rules.
 
 use glam::Vec3;
 
 use super::build::Built;
 use super::mesh_grid::MeshGrid;
+use super::nearest::Survivors;
 use super::points::Point;
 use crate::events::{Event, EventKind, EventList};
 use crate::mesh::Attribute;
@@ -173,15 +176,23 @@ pub(crate) fn record(
             })
             .collect()
     };
+    let survivors = Survivors::new(
+        built
+            .points
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| matches!(p, Point::Vertex(_)))
+            .map(|(i, _)| (i as u32, built.mesh.positions[i])),
+        grid.frame().spacing(),
+    );
     let reached: FxHashSet<u32> = order.iter().copied().collect();
     for &d in deleted.iter().filter(|d| !reached.contains(d)) {
-        events.push(Event {
-            kind: EventKind::PatchDeleted,
-            inputs: vec![input_ids[d as usize]],
-            outputs: Vec::new(),
-            forward: Vec::new(),
-            backward: Vec::new(),
-        });
+        events.push(unreached_deleted(
+            input_ids[d as usize],
+            survivors
+                .nearest(input.positions[d as usize])
+                .map(|i| ids[i as usize]),
+        ));
     }
     for (d, terms) in order.iter().zip(&rules).rev() {
         events.push(Event::patch_deleted(
@@ -236,13 +247,19 @@ pub(crate) fn record(
     }
     let reached: FxHashSet<u32> = order.iter().copied().collect();
     for &v in fill.iter().filter(|v| !reached.contains(v)) {
-        events.push(Event {
-            kind: EventKind::PatchCreated,
-            inputs: Vec::new(),
-            outputs: vec![ids[v as usize]],
-            forward: Vec::new(),
-            backward: Vec::new(),
-        });
+        let source = survivors.nearest(built.mesh.positions[v as usize]);
+        if let Some(s) = source {
+            for a in attributes.iter_mut() {
+                let k = a.components;
+                for c in 0..k {
+                    a.values[v as usize * k + c] = a.values[s as usize * k + c];
+                }
+            }
+        }
+        events.push(unreached_created(
+            ids[v as usize],
+            source.map(|s| ids[s as usize]),
+        ));
     }
     Recorded {
         ids,
@@ -251,6 +268,34 @@ pub(crate) fn record(
         cut,
         patch: fill.len(),
         deleted: deleted.len(),
+    }
+}
+
+/// A deleted vertex no march reached: going backward it copies `source`, the nearest survivor.
+fn unreached_deleted(deleted: u64, source: Option<u64>) -> Event {
+    match source {
+        Some(s) => Event::patch_deleted(deleted, vec![(s, 1.0)]),
+        None => Event {
+            kind: EventKind::PatchDeleted,
+            inputs: vec![deleted],
+            outputs: Vec::new(),
+            forward: Vec::new(),
+            backward: Vec::new(),
+        },
+    }
+}
+
+/// A new vertex no march reached: going forward it copies `source`, the nearest survivor.
+fn unreached_created(created: u64, source: Option<u64>) -> Event {
+    match source {
+        Some(s) => Event::patch_created(created, vec![(s, 1.0)]),
+        None => Event {
+            kind: EventKind::PatchCreated,
+            inputs: Vec::new(),
+            outputs: vec![created],
+            forward: Vec::new(),
+            backward: Vec::new(),
+        },
     }
 }
 
