@@ -173,7 +173,12 @@ pub fn reconcile_components(
     // The new surface: our kept components, then copies of the inserted ones.
     let ids = current.ids.as_deref().unwrap_or_default();
     let mut keep = vec![true; current.positions.len()];
-    for c in ours.iter().zip(&delete).filter(|(_, d)| **d).map(|(c, _)| c) {
+    for c in ours
+        .iter()
+        .zip(&delete)
+        .filter(|(_, d)| **d)
+        .map(|(c, _)| c)
+    {
         for &v in &c.vertices {
             keep[v as usize] = false;
         }

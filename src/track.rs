@@ -33,6 +33,19 @@ pub struct TrackOptions {
     pub improve: ImproveParams,
     pub register: RegisterOptions,
     pub topology: TopologyOptions,
+    /// How `M` follows each target before improvement and the topology steps.
+    pub motion: Motion,
+}
+
+/// How the tracked mesh is moved onto each target (Algorithm 1, lines 5–6).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Motion {
+    /// The paper's non-rigid registration: deformation graph, then per-vertex fit (§4.2).
+    #[default]
+    Register,
+    /// Every vertex jumps to its closest point on the target: the baseline the paper compares with
+    /// (Fig. 9), which drifts tangentially even under a plain translation.
+    Project,
 }
 
 /// The tracker's per-operation deviation bound of mesh improvement, in units of `L` (see
@@ -52,6 +65,7 @@ impl Default for TrackOptions {
             },
             register: RegisterOptions::default(),
             topology: TopologyOptions::default(),
+            motion: Motion::Register,
         }
     }
 }
@@ -237,8 +251,16 @@ impl Tracker {
         let mut events = EventList::new();
 
         let t = Instant::now();
-        let registration = register(backend, &mut self.mesh, target, &self.options.register)
-            .map_err(|source| TrackError::Register { frame, source })?;
+        let converged = match self.options.motion {
+            Motion::Register => register(backend, &mut self.mesh, target, &self.options.register)
+                .map_err(|source| TrackError::Register { frame, source })?
+                .converged(),
+            Motion::Project => {
+                self.project_onto(backend, target)
+                    .map_err(|source| TrackError::Project { frame, source })?;
+                true
+            }
+        };
         times.register = ms(t.elapsed());
 
         let t = Instant::now();
@@ -270,14 +292,9 @@ impl Tracker {
 
         let t = Instant::now();
         let bvh = Bvh::build(target).map_err(|source| TrackError::Project { frame, source })?;
-        let (reconciled, counts) = reconcile_components(
-            backend,
-            &mut self.mesh,
-            target,
-            &bvh,
-            self.grid.spacing(),
-        )
-        .map_err(|source| TrackError::Reconcile { frame, source })?;
+        let (reconciled, counts) =
+            reconcile_components(backend, &mut self.mesh, target, &bvh, self.grid.spacing())
+                .map_err(|source| TrackError::Reconcile { frame, source })?;
         times.reconcile = ms(t.elapsed());
         events.extend(reconciled);
         self.mesh.record_mutations();
@@ -295,12 +312,30 @@ impl Tracker {
             frame,
             &events,
             residual,
-            registration.converged(),
+            converged,
             self_changed || target_changed || counts.changed(),
             times,
         );
         log.reconciled = counts;
         Ok((events, log))
+    }
+
+    /// Moves every vertex to its closest point on `target` ([`Motion::Project`]).
+    fn project_onto(
+        &mut self,
+        backend: &Backend,
+        target: &IndexedMesh,
+    ) -> Result<(), ProjectError> {
+        let bvh = Bvh::build(target)?;
+        let slots: Vec<_> = self.mesh.vertices().collect();
+        let points: Vec<glam::Vec3> = slots.iter().map(|&v| self.mesh.position(v)).collect();
+        let nearest = closest_points(backend, &bvh, &points, f32::INFINITY)?;
+        for (&v, hit) in slots.iter().zip(&nearest) {
+            if hit.hit_triangle().is_some() {
+                self.mesh.set_position(v, hit.point);
+            }
+        }
+        Ok(())
     }
 
     /// Mean and largest distance from the tracked vertices to `target`, in units of `L`.

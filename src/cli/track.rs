@@ -14,7 +14,7 @@ use surftrack::io::{
     write_ply,
 };
 use surftrack::mesh::IndexedMesh;
-use surftrack::track::{FrameLog, TRACK_MAX_DEVIATION, TrackOptions, Tracker};
+use surftrack::track::{FrameLog, Motion, TRACK_MAX_DEVIATION, TrackOptions, Tracker};
 
 /// Version of `track.json`.
 const STATE_VERSION: u32 = 1;
@@ -87,9 +87,20 @@ pub struct MethodParams {
     /// Fine-stage correspondence cut-off σ in units of L (§4.2).
     #[arg(long, default_value_t = 1.0)]
     pub sigma: f64,
+    /// How the mesh follows each frame: `register` (the paper's §4.2) or `project` (each vertex to
+    /// its closest point on the frame: the baseline of the paper's Fig. 9).
+    #[arg(long, value_enum, default_value_t = MotionArg::Register)]
+    pub motion: MotionArg,
     /// Only topology differences deeper than this many cells re-sample the mesh (§4.3).
     #[arg(long, default_value_t = 1)]
     pub depth: u32,
+}
+
+/// `--motion`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
+pub enum MotionArg {
+    Register,
+    Project,
 }
 
 impl MethodParams {
@@ -109,6 +120,10 @@ impl MethodParams {
         o.register.coarse.alpha_reg_start = self.alpha_reg;
         o.register.fine.sigma = self.sigma;
         o.topology.depth = self.depth;
+        o.motion = match self.motion {
+            MotionArg::Register => Motion::Register,
+            MotionArg::Project => Motion::Project,
+        };
         o
     }
 }
