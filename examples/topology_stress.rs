@@ -1,12 +1,13 @@
 //! Long stress run of `constrain_topology` on random adversarial cases (the test suite runs a
-//! shorter one): `cargo run --release --example topology_stress -- --cases N [--from SEED]`.
+//! shorter one): `cargo run --release --example topology_stress -- --cases N [--from SEED] [--kind KIND]`
+//! (KIND one of the case kinds, e.g. `SelfIntersecting`: only the seeds of that kind run).
 //!
 //! Prints the number of cases, failures (each with its seed, which reproduces it), whole-surface
 //! replacements, the attempt that succeeded, the worst distance of a fill vertex from Θ's zero set
 //! and the mean share of input vertices replaced, per case kind.
 
 #[path = "../tests/topology_support/mod.rs"]
-mod topology_support;
+pub mod topology_support;
 
 use std::time::Instant;
 
@@ -33,11 +34,19 @@ fn main() {
     };
     let cases = value("--cases", 10_000);
     let from = value("--from", 0);
+    let only = args
+        .iter()
+        .position(|a| a == "--kind")
+        .and_then(|i| args.get(i + 1))
+        .cloned();
     let start = Instant::now();
     let mut tallies: Vec<(Kind, Tally)> = KINDS.iter().map(|&k| (k, Tally::default())).collect();
     let mut failures = 0usize;
     for seed in from..from + cases {
         let c = case(seed);
+        if only.as_ref().is_some_and(|k| *k != format!("{:?}", c.kind)) {
+            continue;
+        }
         let tally = &mut tallies
             .iter_mut()
             .find(|(k, _)| *k == c.kind)

@@ -3,12 +3,14 @@
 // src/grid/triangle_tree.rs (`gather`, `nearest`, `point_triangle_distance_squared`), line for
 // line. Prepended: shared/distance.wgsl.
 //
-// One invocation per tile (up to 16 × 2 × 2 candidate corners, in chunks along x): the triangles
-// whose boxes lie within the band of the tile's box are gathered once; each corner bounds every
+// One invocation per tile: chunks of candidate corners along x whose triangles are gathered once
+// (src/grid/distance_gpu.rs makes each chunk a tile of its own, see there why). The triangles
+// whose boxes lie within the band of the tile's box are gathered; each corner bounds every
 // gathered triangle's distance from below (the larger of its box's and its plane's), tests the
 // previous corner's nearest first (for a chunk's first corner, the one with the least bound), then
-// those whose bound is below the best so far. A tile near more than GATHER_CAPACITY triangles searches the tree once
-// per corner instead.
+// those whose bound is below the best so far. A tile near more than GATHER_CAPACITY triangles
+// searches the tree once per corner instead. The bounds are recomputed where the CPU twin caches
+// them, so an invocation keeps only its gathered slots in private memory.
 
 @group(0) @binding(0) var<storage, read> params: array<DistanceParams>;
 @group(0) @binding(1) var<storage, read> nodes: array<TreeNode>;
@@ -103,6 +105,17 @@ fn triangle_distance_squared(slot: u32, corner: vec3<i32>) -> f32 {
     let t = triangles[slot];
     let p = vec3<f32>(corner - vec3<i32>(t.base[0], t.base[1], t.base[2]));
     return point_triangle_distance_squared(p, vec(t.a), vec(t.b), vec(t.c));
+}
+
+// A lower bound of the squared distance from `corner` (at `p` from the tree's base) to the
+// triangle in `slot`: the larger of its box's and its plane's, the plane's reduced by PLANE_SLACK
+// for rounding. src/grid/distance.rs caches the same two terms per tile and chunk.
+fn lower_bound(slot: u32, corner: vec3<i32>, p: vec3<f32>) -> f32 {
+    let to_box = box_distance_squared(vec(boxes[slot].min), vec(boxes[slot].max), p);
+    let t = triangles[slot];
+    let local = vec3<f32>(corner - vec3<i32>(t.base[0], t.base[1], t.base[2]));
+    let to_plane = max(abs(dot3(vec(t.normal), local) - t.offset) - PLANE_SLACK, 0.0);
+    return max(to_box, to_plane * to_plane);
 }
 
 struct Best {
@@ -249,50 +262,28 @@ fn main(
         return;
     }
 
-    var across: array<f32, GATHER_CAPACITY>;
-    var plane_at: array<f32, GATHER_CAPACITY>;
-    var bounds: array<f32, GATHER_CAPACITY>;
     for (var c = tile.first; c < tile.first + tile.count; c += 1u) {
         let first = chunk_first(c);
-        let start = vec3<f32>(first - base);
-        let offset = vec3<f32>(first - first_corner);
-        for (var k = 0u; k < gathered; k += 1u) {
-            let slot = slots[k];
-            let gap = max(max(vec(boxes[slot].min) - start, start - vec(boxes[slot].max)),
-                vec3<f32>(0.0));
-            across[k] = gap.y * gap.y + gap.z * gap.z;
-            let t = triangles[slot];
-            let p = vec3<f32>(first_corner - vec3<i32>(t.base[0], t.base[1], t.base[2]));
-            let plane = t.normal[0] * p.x + t.normal[1] * p.y + t.normal[2] * p.z - t.offset;
-            plane_at[k] = plane + t.normal[0] * offset.x + t.normal[1] * offset.y
-                + t.normal[2] * offset.z;
-        }
         var hint = NO_SLOT;
         for (var i = 0u; i < chunks[c].len; i += 1u) {
-            let x = start.x + f32(i);
             let corner = first + vec3<i32>(i32(i), 0, 0);
-            for (var k = 0u; k < gathered; k += 1u) {
-                let slot = slots[k];
-                let gap = max(max(boxes[slot].min[0] - x, x - boxes[slot].max[0]), 0.0);
-                let to_plane = max(abs(plane_at[k] + triangles[slot].normal[0] * f32(i))
-                    - PLANE_SLACK, 0.0);
-                bounds[k] = max(across[k] + gap * gap, to_plane * to_plane);
-            }
+            let p = vec3<f32>(corner - base);
             // The previous corner's nearest triangle, or else the one with the least bound.
             var start_k = hint;
             if start_k == NO_SLOT {
                 var least = bitcast<f32>(0x7f800000u);
                 start_k = 0u;
                 for (var k = 0u; k < gathered; k += 1u) {
-                    if bounds[k] < least {
-                        least = bounds[k];
+                    let lower = lower_bound(slots[k], corner, p);
+                    if lower < least {
+                        least = lower;
                         start_k = k;
                     }
                 }
             }
             var best = bound;
             var found = NO_SLOT;
-            if start_k < gathered && bounds[start_k] < best {
+            if start_k < gathered && lower_bound(slots[start_k], corner, p) < best {
                 let d = triangle_distance_squared(slots[start_k], corner);
                 if d < best {
                     best = d;
@@ -300,7 +291,7 @@ fn main(
                 }
             }
             for (var k = 0u; k < gathered; k += 1u) {
-                if bounds[k] < best && k != start_k {
+                if k != start_k && lower_bound(slots[k], corner, p) < best {
                     let d = triangle_distance_squared(slots[k], corner);
                     if d < best {
                         best = d;

@@ -3,7 +3,7 @@
 //! angles of the unsnapped mesh give (and, for primitives, the analytic inside test), the three
 //! sweep directions must agree everywhere, and every grid line must return to winding 0.
 
-mod grid_support;
+pub mod grid_support;
 
 use glam::{DVec3, Vec3};
 use grid_support::*;

@@ -2,7 +2,7 @@
 //! every corner within the band is present with its distance to 1e-5 cell, the sign is the
 //! winding's, and nothing outside the band is stored.
 
-mod grid_support;
+pub mod grid_support;
 
 use glam::Vec3;
 use grid_support::*;

@@ -2,7 +2,7 @@
 //! crossings (one perturbed configuration), with the vertex cells, and with a geometric overlap
 //! test wherever that test is unambiguous.
 
-mod grid_support;
+pub mod grid_support;
 
 use std::collections::BTreeSet;
 

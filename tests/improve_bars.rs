@@ -3,9 +3,11 @@
 //! most 5% of the mean edge length (one-sided Hausdorff, improved → input), and improving again
 //! records no event.
 
+use std::collections::BTreeMap;
 use surftrack::events::EventList;
 use surftrack::improve::{
-    ANGLE_BUCKETS, Assessment, ImproveParams, ImproveReport, assess, improve, one_sided_hausdorff,
+    ANGLE_BUCKETS, Assessment, ImproveParams, ImproveReport, Operation, RATIO_BUCKETS, Refusal,
+    Unfixed, assess, improve, one_sided_hausdorff,
 };
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::synth::{Scene, SynthOptions, extract, plan};
@@ -71,10 +73,24 @@ fn improve_frame(scene: Scene, index: usize, input: &IndexedMesh) -> Outcome {
     }
 }
 
-/// Improves `indices` of `scene`, prints the figures, and checks the quality bar: every frame keeps at
-/// least `frame_floor` of its triangles within the criteria, and all frames together at least 99.5%.
+/// Adds `histogram` into `total` bucket by bucket.
+fn accumulate(total: &mut Vec<usize>, histogram: &[usize]) {
+    total.resize(histogram.len(), 0);
+    for (t, h) in total.iter_mut().zip(histogram) {
+        *t += h;
+    }
+}
+
+/// Improves `indices` of `scene`, prints the per-frame figures and the scene's pooled histograms,
+/// worst remaining triangles and the reasons their fixes were refused, and checks the quality bar:
+/// every frame keeps at least `frame_floor` of its triangles within the criteria, and the scene's
+/// frames together at least 99.5%.
 fn check_scene(scene: Scene, indices: &[usize], frame_floor: f64) {
-    let (mut total, mut failing) = (0usize, 0usize);
+    let (mut total, mut failing, mut worst_move) = (0usize, 0usize, 0.0f32);
+    let (mut angles_before, mut angles_after) = (Vec::new(), Vec::new());
+    let (mut ratios_before, mut ratios_after) = (Vec::new(), Vec::new());
+    let mut left: Vec<(usize, Unfixed)> = Vec::new();
+    let mut reasons: BTreeMap<(Operation, Refusal), usize> = BTreeMap::new();
     for (index, input) in frames(scene, indices) {
         let o = improve_frame(scene, index, &input);
         let passing = o.after.passing_fraction();
@@ -90,16 +106,6 @@ fn check_scene(scene: Scene, indices: &[usize], frame_floor: f64) {
             o.report.flips,
             o.events
         );
-        println!(
-            "  min-angle histogram (bucket ends {ANGLE_BUCKETS:?}): {:?} -> {:?}",
-            o.before.min_angle_histogram, o.after.min_angle_histogram
-        );
-        for u in o.report.unfixed.iter().take(3) {
-            println!(
-                "  unfixed {:?} {:?} measure {:.3}: {:?}",
-                u.problem, u.vertices, u.measure, u.refusals
-            );
-        }
         assert!(
             passing >= frame_floor,
             "{scene} frame {index}: only {passing:.4} of triangles pass"
@@ -111,8 +117,42 @@ fn check_scene(scene: Scene, indices: &[usize], frame_floor: f64) {
         );
         total += o.after.triangles;
         failing += o.after.failing;
+        worst_move = worst_move.max(o.moved);
+        accumulate(&mut angles_before, &o.before.min_angle_histogram);
+        accumulate(&mut angles_after, &o.after.min_angle_histogram);
+        accumulate(&mut ratios_before, &o.before.edge_ratio_histogram);
+        accumulate(&mut ratios_after, &o.after.edge_ratio_histogram);
+        for u in o.report.unfixed {
+            for &reason in &u.refusals {
+                *reasons.entry(reason).or_default() += 1;
+            }
+            left.push((index, u));
+        }
     }
     let pooled = 1.0 - failing as f64 / total as f64;
+    println!(
+        "{scene} ({} frames): {total} triangles, {failing} failing, passing {pooled:.5}, \
+         largest move {worst_move:.4} L",
+        indices.len()
+    );
+    println!("  min-angle histogram, bucket ends {ANGLE_BUCKETS:?} degrees:");
+    println!("    raw      {angles_before:?}\n    improved {angles_after:?}");
+    println!("  longest:shortest edge histogram, bucket ends {RATIO_BUCKETS:?}:");
+    println!("    raw      {ratios_before:?}\n    improved {ratios_after:?}");
+    left.sort_by(|x, y| {
+        x.1.problem
+            .cmp(&y.1.problem)
+            .then(x.1.measure.total_cmp(&y.1.measure))
+            .then(x.0.cmp(&y.0))
+    });
+    println!("  {} bad elements left; worst:", left.len());
+    for (index, u) in left.iter().take(5) {
+        println!(
+            "    frame {index} {:?} {:?} measure {:.3}: refused {:?}",
+            u.problem, u.vertices, u.measure, u.refusals
+        );
+    }
+    println!("  refusals of the fixes tried on them: {reasons:?}");
     assert!(pooled >= 0.995, "{scene}: {pooled:.4} of triangles pass");
 }
 

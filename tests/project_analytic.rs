@@ -1,10 +1,16 @@
 //! Projection and closest points against analytic answers, on both backends: concentric spheres,
 //! a plane, a torus; misses; pruning by angle and distance on either side of the thresholds.
 
-mod project_support;
+#[path = "project_support/backends.rs"]
+mod backends;
+#[path = "project_support/reference.rs"]
+mod reference;
+#[path = "project_support/rng.rs"]
+mod rng;
 
 use glam::Vec3;
-use project_support::{Rng, closest_on_triangle_f64, distance_f64, line_plane_f64};
+use reference::{closest_on_triangle_f64, distance_f64, line_plane_f64};
+use rng::Rng;
 use surftrack::compute::Backend;
 use surftrack::mesh::IndexedMesh;
 use surftrack::project::{Bvh, Correspondence, ProjectOptions, Status, closest_points, project};

@@ -2,11 +2,12 @@
 //! traversal stacks even for adversarial inputs), the constants the kernels share with Rust, and
 //! the errors for bad targets and queries.
 
-mod project_support;
+#[path = "project_support/metaballs.rs"]
+mod metaballs;
 
 use glam::Vec3;
+use metaballs::metaballs;
 use naga::{Expression, Literal};
-use project_support::metaballs;
 use surftrack::compute::Backend;
 use surftrack::compute::ComputeError;
 use surftrack::compute::registry::SharedWgsl;

@@ -3,12 +3,18 @@
 //! backends and with the single-ray query. Axis-aligned lines pass through a vertex exactly and
 //! lie in the planes of box faces, the hardest case for both the triangle and the box tests.
 
-mod project_support;
+#[path = "project_support/backends.rs"]
+mod backends;
+#[path = "project_support/metaballs.rs"]
+mod metaballs;
+#[path = "project_support/rng.rs"]
+mod rng;
 
 use std::collections::HashMap;
 
 use glam::{DVec3, Vec3};
-use project_support::{Rng, metaballs};
+use metaballs::metaballs;
+use rng::Rng;
 use surftrack::compute::Backend;
 use surftrack::mesh::IndexedMesh;
 use surftrack::project::{Bvh, ProjectOptions, Status, project};

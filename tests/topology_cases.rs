@@ -3,7 +3,7 @@
 //! vertices outside the region, events that carry constants, fill vertices on Θ's zero set.
 
 #[path = "topology_support/mod.rs"]
-mod topology_support;
+pub mod topology_support;
 
 use glam::Vec3;
 use surftrack::compute::Backend;
@@ -335,5 +335,58 @@ fn thin_strands_follow_the_deep_rule() {
             continue;
         }
         checked(Kind::SelfClean, m.clone(), phi(&m));
+    }
+}
+
+/// Locality on frames without a topology change: a mesh that matches the target within a cell
+/// (another tessellation of the same shapes, moved by up to half a cell) is left alone by both
+/// passes, `Φ(M)` and `Φ(T)`.
+#[test]
+fn a_mesh_within_a_cell_of_its_target_is_left_alone() {
+    let mut rng = topology_support::Rng::new(7);
+    for shape in 0..4 {
+        for _ in 0..5 {
+            let shift = rng.vec(0.5 / 3f32.sqrt());
+            let (h_t, h_m) = (rng.range(0.6, 1.2), rng.range(0.6, 1.2));
+            let (t, m) = match shape {
+                0 => (
+                    surface(ball(Vec3::ZERO, 6.0), h_t),
+                    surface(ball(shift, 6.0), h_m),
+                ),
+                1 => (
+                    surface(torus(6.5, 2.5), h_t),
+                    surface(move |p| torus(6.5, 2.5)(p - shift), h_m),
+                ),
+                2 => {
+                    let pair = |s: Vec3| {
+                        union(
+                            ball(Vec3::new(-6.0, 0.0, 0.0) + s, 3.5),
+                            ball(Vec3::new(6.0, 0.0, 0.0) + s, 3.5),
+                        )
+                    };
+                    (surface(pair(Vec3::ZERO), h_t), surface(pair(shift), h_m))
+                }
+                _ => {
+                    let blobs = topology_support::Blobs {
+                        centers: vec![Vec3::new(-2.5, 0.0, 0.0), Vec3::new(2.5, 1.0, 0.0)],
+                        widths: vec![3.5, 3.0],
+                        threshold: 0.4,
+                    };
+                    let b = blobs.clone();
+                    (
+                        surface(move |p| 3.0 * blobs.value(p), h_t),
+                        surface(move |p| 3.0 * b.value(p - shift), h_m),
+                    )
+                }
+            };
+            assert_eq!(euler_list(&m), euler_list(&t), "shape {shape}");
+            let o = checked(Kind::SelfClean, m.clone(), phi(&m));
+            assert!(!o.changed, "shape {shape}: Φ(M) re-sampled a clean mesh");
+            let o = checked(Kind::TargetMesh, m, phi(&t));
+            assert!(
+                !o.changed,
+                "shape {shape}, shift {shift}: Φ(T) re-sampled a mesh within a cell of T"
+            );
+        }
     }
 }

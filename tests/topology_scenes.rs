@@ -5,7 +5,7 @@
 //! Also: the result does not depend on the number of threads.
 
 #[path = "topology_support/mod.rs"]
-mod topology_support;
+pub mod topology_support;
 
 use surftrack::compute::Backend;
 use surftrack::grid::GridFrame;

@@ -1,6 +1,6 @@
 //! The stress bar: thousands of random adversarial cases, every guarantee checked on each.
 
-mod topology_support;
+pub mod topology_support;
 
 use topology_support::{case, check};
 

@@ -123,7 +123,7 @@ pub fn signed_distance(
     let nearest = match backend {
         Backend::Cpu => distance_cpu(&tree, &chunks, &tiles, bound),
         Backend::Gpu(context) => {
-            let job = GpuDistance::upload(context, &tree, &chunks, &tiles, bound)?;
+            let job = GpuDistance::upload(context, &tree, &chunks, bound)?;
             job.dispatch(context)?;
             job.read(context)?
         }

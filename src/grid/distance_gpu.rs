@@ -32,7 +32,14 @@ impl DistanceParams {
     };
 }
 
-/// A triangle tree and tiles of candidate corners uploaded for `kernels/distance.wgsl`.
+/// A triangle tree and candidate corners uploaded for `kernels/distance.wgsl`, one chunk per tile.
+///
+/// The CPU twin shares one gather among the chunks of an 8 × 4 × 4 tile; on the GPU each chunk is
+/// a tile of its own. That gives a GPU thousands more invocations to schedule, and it keeps every
+/// invocation within lavapipe's bound on the loop iterations of one invocation (65 535 in all,
+/// after which llvmpipe leaves the loops silently: a whole tile's corners against a full gather
+/// passed that bound and lost their results). Each chunk gathers the triangles near its own box,
+/// a subset of its tile's, so the nearest triangle found is the same.
 #[derive(Debug)]
 pub(crate) struct GpuDistance {
     buffers: Option<Buffers>,
@@ -52,17 +59,22 @@ struct Buffers {
 }
 
 impl GpuDistance {
-    /// Uploads the tree and the tiles of candidate corners (chunks in tile order).
+    /// Uploads the tree and the chunks of candidate corners.
     pub(crate) fn upload(
         context: &GpuContext,
         tree: &TriangleTree,
         chunks: &[BandChunk],
-        tiles: &[BandTile],
         bound: f32,
     ) -> Result<Self, RasterError> {
-        if tiles.is_empty() {
+        if chunks.is_empty() {
             return Ok(Self { buffers: None });
         }
+        let tiles = (0..chunks.len())
+            .map(|c| {
+                let first = u32::try_from(c).map_err(|_| RasterError::TooManyItems(c))?;
+                Ok(BandTile { first, count: 1 })
+            })
+            .collect::<Result<Vec<_>, RasterError>>()?;
         let corner_count = chunks.iter().map(|c| c.len as usize).sum();
         let params = DistanceParams {
             base: tree.base(),
@@ -75,7 +87,7 @@ impl GpuDistance {
                 triangles: context.upload("triangles", tree.triangles())?,
                 boxes: context.upload("boxes", tree.boxes())?,
                 chunks: context.upload("chunks", chunks)?,
-                tiles: context.upload("tiles", tiles)?,
+                tiles: context.upload("tiles", &tiles)?,
                 nearest: context.output::<Nearest>("nearest", corner_count)?,
                 tile_count: tiles.len(),
                 corner_count,

@@ -12,6 +12,10 @@ pub const ANGLE_BUCKETS: [f32; 8] = [2.0, 4.0, 6.0, 8.0, 10.0, 20.0, 30.0, 40.0]
 /// Upper ends of the edge-length histogram buckets, relative to the target length `L`.
 pub const LENGTH_BUCKETS: [f32; 8] = [0.125, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0];
 
+/// Upper ends of the histogram buckets of each triangle's longest : shortest edge ratio; the
+/// criterion is the parameters' `edge_ratio` (paper: 4).
+pub const RATIO_BUCKETS: [f32; 6] = [1.5, 2.0, 3.0, 4.0, 6.0, 8.0];
+
 /// One triangle's verdict.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct TriangleQuality {
@@ -39,6 +43,8 @@ pub struct Assessment {
     pub sharp_edges: usize,
     /// Triangles per bucket of `ANGLE_BUCKETS` (one more for the rest).
     pub min_angle_histogram: Vec<usize>,
+    /// Triangles per bucket of `RATIO_BUCKETS` (one more for the rest).
+    pub edge_ratio_histogram: Vec<usize>,
     /// Edges per bucket of `LENGTH_BUCKETS` (one more for the rest).
     pub edge_length_histogram: Vec<usize>,
     /// The failing triangles, smallest angle first.
@@ -71,6 +77,7 @@ pub fn assess(mesh: &IndexedMesh, params: &ImproveParams) -> Assessment {
         edges: 0,
         sharp_edges: 0,
         min_angle_histogram: vec![0; ANGLE_BUCKETS.len() + 1],
+        edge_ratio_histogram: vec![0; RATIO_BUCKETS.len() + 1],
         edge_length_histogram: vec![0; LENGTH_BUCKETS.len() + 1],
         worst: Vec::new(),
     };
@@ -85,6 +92,12 @@ pub fn assess(mesh: &IndexedMesh, params: &ImproveParams) -> Assessment {
         out.edge_out_of_band += usize::from(shortest < lo || longest > hi);
         out.ratio_exceeded += usize::from(ratio);
         out.min_angle_histogram[bucket(&ANGLE_BUCKETS, angle)] += 1;
+        let proportion = if shortest > 0.0 {
+            longest / shortest
+        } else {
+            f32::INFINITY
+        };
+        out.edge_ratio_histogram[bucket(&RATIO_BUCKETS, proportion)] += 1;
         if small || ratio {
             out.failing += 1;
             out.worst.push(TriangleQuality {

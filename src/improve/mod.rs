@@ -23,7 +23,9 @@ mod report;
 mod scan;
 mod split;
 
-pub use assess::{ANGLE_BUCKETS, Assessment, LENGTH_BUCKETS, TriangleQuality, assess};
+pub use assess::{
+    ANGLE_BUCKETS, Assessment, LENGTH_BUCKETS, RATIO_BUCKETS, TriangleQuality, assess,
+};
 pub use distance::point_triangle_distance;
 pub use error::ImproveError;
 pub use hausdorff::{SurfaceDistance, one_sided_hausdorff};

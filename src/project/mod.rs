@@ -26,7 +26,6 @@ mod node;
 mod options;
 mod order;
 mod point_triangle;
-mod probe;
 mod query;
 mod shading;
 mod slab;

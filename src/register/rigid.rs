@@ -135,8 +135,9 @@ pub struct Prealignment {
 }
 
 /// Rigid ICP of the samples `rest` (solver coordinates) with unit normals `normals`:
-/// `project(points, normals)` gives their correspondences at a pose. Stops when a step is
-/// negligible, when the energy stops falling, or after `max_iterations`; returns the best pose.
+/// `project(points, normals)` gives their correspondences at a pose. Stops once a negligible step
+/// has been taken (and its pose evaluated), when the energy stops falling, or after
+/// `max_iterations`; returns the best pose.
 pub fn prealign<E>(
     rest: &[DVec3],
     normals: &[Vec3],
@@ -148,6 +149,7 @@ pub fn prealign<E>(
     let mut pose = Rigid::IDENTITY;
     let mut report = Prealignment::default();
     let mut best = (f64::INFINITY, pose);
+    let mut settled = false;
     for _ in 0..=max_iterations {
         let points: Vec<DVec3> = rest.iter().map(|&p| pose.apply(p)).collect();
         let turned: Vec<Vec3> = normals
@@ -161,6 +163,9 @@ pub fn prealign<E>(
         }
         report.energies.push(e);
         best = (e, pose);
+        if settled {
+            break;
+        }
         let Some((omega, tau, centre)) = step(&points, &targets, plane, point) else {
             break;
         };
@@ -169,9 +174,7 @@ pub fn prealign<E>(
             rotation: (turn * pose.rotation).normalize(),
             translation: turn * (pose.translation - centre) + centre + tau,
         };
-        if omega.length() < MIN_TURN && tau.length() < MIN_MOVE {
-            break;
-        }
+        settled = omega.length() < MIN_TURN && tau.length() < MIN_MOVE;
     }
     Ok((best.1, report))
 }

@@ -14,7 +14,7 @@
 use std::rc::Rc;
 use std::time::Instant;
 
-use rustc_hash::FxHashSet;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::build::{Built, build};
 use super::classify::{Strictness, seeds};
@@ -112,6 +112,8 @@ fn resample(
             Ok((built, recorded, verdict)) => match verdict {
                 Ok(rebuilt) => {
                     report.resampling = Resampling::Local { attempt };
+                    report.region = region.iter().copied().collect();
+                    report.region.sort_unstable();
                     summarize(recorded, &mut report);
                     report.euler = target;
                     report.total = start.elapsed();
@@ -141,17 +143,10 @@ fn resample(
         }
         extra = widen(&extra);
     }
-    replace_whole(
-        mesh,
-        &grid,
-        theta,
-        surface.len(),
-        iso,
-        iso_edges,
-        &target,
-        start,
-        report,
-    )
+    report.region_cells = surface.len();
+    let rebuilt = replace_whole(mesh, &grid, theta, iso, iso_edges, &target, &mut report)?;
+    report.total = start.elapsed();
+    Ok((report, Some(rebuilt)))
 }
 
 /// The attempts, from the configured depth to the strictest classification with wide margins.
@@ -178,14 +173,16 @@ fn ladder(options: &TopologyOptions) -> Vec<Strictness> {
     steps
 }
 
+/// The planes at which each split mesh edge is cut, in order from its first vertex.
+type Splits = FxHashMap<u32, Vec<(u8, i32)>>;
+
 /// Cut, fill and assemble for one region.
-#[allow(clippy::type_complexity)]
 fn attempt_region(
     grid: &MeshGrid,
     theta: &Field,
     region: &FxHashSet<Cell>,
     checks: &mut Checks,
-) -> Result<(Built, rustc_hash::FxHashMap<u32, Vec<(u8, i32)>>), Vec<Point>> {
+) -> Result<(Built, Splits), Vec<Point>> {
     let mut cells: Vec<Cell> = region.iter().copied().collect();
     cells.sort_unstable();
     let mut fronts: Vec<(GridFace, Rc<Vec<Arc>>)> = Vec::new();
@@ -307,18 +304,15 @@ fn empty_mesh(attributes: &[Attribute]) -> Mesh {
 }
 
 /// The last resort: every input vertex is removed and Θ's isosurface takes the mesh's place.
-#[allow(clippy::too_many_arguments)]
 fn replace_whole(
     mesh: &Mesh,
     grid: &MeshGrid,
     theta: &Field,
-    cells: usize,
     mut iso: IndexedMesh,
     edges: Vec<GridEdge>,
     target: &[i64],
-    start: Instant,
-    mut report: TopologyReport,
-) -> Result<(TopologyReport, Option<Mesh>), TopologyError> {
+    report: &mut TopologyReport,
+) -> Result<Mesh, TopologyError> {
     let clock = Instant::now();
     place_isosurface(theta, &mut iso, &edges);
     let built = Built {
@@ -333,10 +327,8 @@ fn replace_whole(
             reason: report.abandoned.join("; "),
         })?;
     report.resampling = Resampling::Whole;
-    report.region_cells = cells;
-    summarize(recorded, &mut report);
+    summarize(recorded, report);
     report.euler = target.to_vec();
     report.rebuild += clock.elapsed();
-    report.total = start.elapsed();
-    Ok((report, Some(rebuilt)))
+    Ok(rebuilt)
 }

@@ -19,9 +19,15 @@ pub enum Resampling {
 #[derive(Debug, Clone, Default)]
 pub struct TopologyReport {
     pub resampling: Resampling,
-    /// Cells seeding the complex region, and cells of the region after growth (last attempt).
+    /// Cells seeding the complex region, and cells of the region after growth (last attempt; every
+    /// cell of Θ's surface when the whole surface was replaced).
     pub seed_cells: usize,
     pub region_cells: usize,
+    /// The complex region of a local re-sampling, sorted (empty otherwise). Input vertices in other
+    /// cells keep their ids and positions; an input triangle is kept as it was unless it, or a
+    /// triangle sharing a side with it, meets a cell of the region (the cut inserts its points on
+    /// both triangles of a side it splits).
+    pub region: Vec<[i32; 3]>,
     /// Input vertices kept (same id and position), removed, and new vertices on the cut and in
     /// the fill.
     pub kept: usize,

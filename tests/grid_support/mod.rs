@@ -1,8 +1,6 @@
 //! Independent references for the grid tests: winding numbers by solid angles and distances by
 //! brute force, both in f64 on the unsnapped mesh, plus small mesh builders.
 
-#![allow(dead_code)]
-
 use glam::{DVec3, Vec3};
 use surftrack::grid::GridFrame;
 use surftrack::mesh::IndexedMesh;

@@ -1,7 +1,7 @@
 //! Random adversarial cases for `constrain_topology` and the check of every guarantee on one case,
 //! shared by the stress test and `examples/topology_stress.rs`.
 
-#![allow(dead_code)]
+use std::collections::{HashMap, HashSet};
 
 use glam::Vec3;
 use surftrack::compute::Backend;
@@ -17,7 +17,7 @@ impl Rng {
     pub fn new(seed: u64) -> Self {
         Self(seed ^ 0x9E37_79B9_7F4A_7C15)
     }
-    pub fn next(&mut self) -> u64 {
+    pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -26,10 +26,10 @@ impl Rng {
     }
     /// Uniform in `[lo, hi)`.
     pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * ((self.next() >> 40) as f32 / (1u64 << 24) as f32)
+        lo + (hi - lo) * ((self.next_u64() >> 40) as f32 / (1u64 << 24) as f32)
     }
     pub fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
+        self.next_u64() % n
     }
     pub fn chance(&mut self, p: f32) -> bool {
         self.range(0.0, 1.0) < p
@@ -348,6 +348,20 @@ pub fn check(case: &Case) -> Result<Outcome, String> {
     if sorted.len() != ids.len() {
         return Err("duplicate ids".into());
     }
+    match report.resampling {
+        Resampling::None => {
+            if out.positions != input.positions
+                || out.triangles != input.triangles
+                || out.ids.as_deref() != Some(&input_ids[..])
+            {
+                return Err("unchanged, yet the mesh differs from the input".into());
+            }
+        }
+        Resampling::Local { .. } => {
+            untouched_outside(input, &input_ids, &out, &case.theta, &report.region)?
+        }
+        Resampling::Whole => {}
+    }
     report.events.check().map_err(|e| format!("events: {e}"))?;
     // A constant carried forward and backward stays constant wherever it arrives.
     let ones = vec![1.0f32; input_ids.len()];
@@ -398,6 +412,11 @@ pub fn check(case: &Case) -> Result<Outcome, String> {
             fill_error = fill_error.max(level_distance(&case.theta, out.positions[i]));
         }
     }
+    if fill_error > 0.5 {
+        return Err(format!(
+            "a fill vertex lies {fill_error:.4} cells from Θ's zero set"
+        ));
+    }
     Ok(Outcome {
         changed: report.changed(),
         whole: report.resampling == Resampling::Whole,
@@ -408,4 +427,90 @@ pub fn check(case: &Case) -> Result<Outcome, String> {
         fill_error,
         replaced: report.replaced_fraction(),
     })
+}
+
+/// Cells whose closure may hold a point within `slack` cells of the box `lo..=hi` (grid units).
+fn cells_near(lo: [f64; 3], hi: [f64; 3], slack: f64) -> impl Iterator<Item = [i32; 3]> {
+    let a: [i32; 3] = std::array::from_fn(|k| (lo[k] - slack).floor() as i32);
+    let b: [i32; 3] = std::array::from_fn(|k| (hi[k] + slack).floor() as i32);
+    (a[2]..=b[2])
+        .flat_map(move |z| (a[1]..=b[1]).flat_map(move |y| (a[0]..=b[0]).map(move |x| [x, y, z])))
+}
+
+/// Outside the complex region the mesh is untouched: every input vertex in no region cell keeps its
+/// id and position, and every input triangle that neither meets a region cell nor shares a side
+/// with one that does is in the output with the same ids. Cells are read with a thousandth of a
+/// cell of slack, so the test's own rounding cannot excuse a change.
+fn untouched_outside(
+    input: &IndexedMesh,
+    input_ids: &[u64],
+    out: &IndexedMesh,
+    theta: &Field,
+    region: &[[i32; 3]],
+) -> Result<(), String> {
+    const SLACK: f64 = 1e-3;
+    if region.is_empty() {
+        return Err("local re-sampling with an empty region".into());
+    }
+    let region: HashSet<[i32; 3]> = region.iter().copied().collect();
+    let frame = theta.frame();
+    let grid = |p: Vec3| -> [f64; 3] {
+        let g = (p.as_dvec3() - frame.origin().as_dvec3()) / f64::from(frame.spacing());
+        g.to_array()
+    };
+    let out_ids = out.ids.as_ref().ok_or("no ids")?;
+    let kept: HashMap<u64, Vec3> = out_ids
+        .iter()
+        .copied()
+        .zip(out.positions.iter().copied())
+        .collect();
+    for (v, p) in input.positions.iter().enumerate() {
+        let g = grid(*p);
+        if cells_near(g, g, SLACK).any(|c| region.contains(&c)) {
+            continue;
+        }
+        if kept.get(&input_ids[v]) != Some(p) {
+            return Err(format!(
+                "vertex {} outside the region was removed or moved",
+                input_ids[v]
+            ));
+        }
+    }
+    let meets: Vec<bool> = input
+        .triangles
+        .iter()
+        .map(|t| {
+            let g = t.map(|v| grid(input.positions[v as usize]));
+            let lo = std::array::from_fn(|k| g.iter().map(|x| x[k]).fold(f64::INFINITY, f64::min));
+            let hi =
+                std::array::from_fn(|k| g.iter().map(|x| x[k]).fold(f64::NEG_INFINITY, f64::max));
+            cells_near(lo, hi, SLACK).any(|c| region.contains(&c))
+        })
+        .collect();
+    let mut sides: HashMap<[u32; 2], Vec<usize>> = HashMap::new();
+    for (t, tri) in input.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            sides.entry([a.min(b), a.max(b)]).or_default().push(t);
+        }
+    }
+    let rotated = |t: [u64; 3]| {
+        let k = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
+        [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
+    };
+    let output: HashSet<[u64; 3]> = out
+        .triangles
+        .iter()
+        .map(|t| rotated(t.map(|v| out_ids[v as usize])))
+        .collect();
+    for (t, tri) in input.triangles.iter().enumerate() {
+        let near = (0..3).any(|k| {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            sides[&[a.min(b), a.max(b)]].iter().any(|&n| meets[n])
+        });
+        if !near && !output.contains(&rotated(tri.map(|v| input_ids[v as usize]))) {
+            return Err(format!("triangle {t} away from the region was changed"));
+        }
+    }
+    Ok(())
 }
