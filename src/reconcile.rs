@@ -30,6 +30,9 @@ use thiserror::Error;
 /// Components whose bounding-box diagonal is at most this many cells count as small.
 pub const SMALL_CELLS: f32 = 4.0;
 
+/// Most vertices of one component that vote on its match.
+const VOTERS: usize = 256;
+
 /// What reconciliation changed in one frame.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ReconcileCounts {
@@ -106,14 +109,29 @@ pub fn reconcile_components(
     let (target_labels, _) = target.component_labels();
     let small = SMALL_CELLS * spacing;
 
-    // Each of our components votes, vertex by vertex, for the target component within a cell.
+    // Each of our components votes, vertex by vertex, for the target component within a cell; a
+    // large component votes with an evenly strided sample of its vertices.
+    let voters: Vec<&[u32]> = ours.iter().map(|c| c.vertices.as_slice()).collect();
+    let sample: Vec<Vec<u32>> = voters
+        .iter()
+        .map(|v| {
+            let step = v.len().div_ceil(VOTERS).max(1);
+            v.iter().step_by(step).copied().collect()
+        })
+        .collect();
+    let points: Vec<Vec3> = sample
+        .iter()
+        .flatten()
+        .map(|&v| current.positions[v as usize])
+        .collect();
     let reach = spacing / bvh.mean_edge_length();
-    let nearest = closest_points(backend, bvh, &current.positions, reach)?;
+    let nearest = closest_points(backend, bvh, &points, reach)?;
     let mut matched: Vec<Option<usize>> = Vec::with_capacity(ours.len());
-    for c in &ours {
+    let mut hits = nearest.iter();
+    for s in &sample {
         let mut votes = vec![0usize; theirs.len()];
-        for &v in &c.vertices {
-            if let Some(t) = nearest[v as usize].hit_triangle()
+        for hit in hits.by_ref().take(s.len()) {
+            if let Some(t) = hit.hit_triangle()
                 && let Some(&[a, _, _]) = target.triangles.get(t as usize)
                 && let Some(k) = target_labels.get(a as usize)
                 && let Some(count) = votes.get_mut(*k as usize)
@@ -122,7 +140,7 @@ pub fn reconcile_components(
             }
         }
         let best = (0..votes.len()).max_by_key(|&k| (votes[k], std::cmp::Reverse(k)));
-        matched.push(best.filter(|&k| 2 * votes[k] > c.vertices.len()));
+        matched.push(best.filter(|&k| 2 * votes[k] > s.len()));
     }
 
     // Decide, per component of ours, whether it goes; per component of theirs, whether it comes.
