@@ -1,10 +1,13 @@
 //! `surftrack bench`: per-frame time of every stage of Algorithm 1 on a ~16k- and a ~100k-vertex
 //! synthetic sequence, CPU and GPU paths side by side in one run (so the ratio is meaningful on a
-//! shared machine), and the process's peak memory.
+//! shared machine), and the process's peak memory. `--input` times a real sequence instead.
 
 use super::CliError;
 use clap::Args;
+use std::path::PathBuf;
 use surftrack::compute::{Backend, BackendChoice};
+use surftrack::io::{discover_sequence, read_frame};
+use surftrack::mesh::IndexedMesh;
 use surftrack::synth::{Scene, SynthOptions, generate};
 use surftrack::track::{StageTimes, TrackOptions, Tracker};
 
@@ -19,6 +22,10 @@ pub struct BenchArgs {
     /// Only the ~16k-vertex size.
     #[arg(long)]
     small_only: bool,
+    /// Time this sequence (directory or pattern, its first --frames frames) instead of the
+    /// synthetic ones.
+    #[arg(long)]
+    input: Option<PathBuf>,
 }
 
 /// Grid resolutions giving about 16k and 100k vertices per frame for each scene.
@@ -36,54 +43,85 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         Ok(gpu) => backends.push(gpu),
         Err(e) => eprintln!("GPU path not measured: {e}"),
     }
-    let sizes = if args.small_only {
-        &resolutions(args.scene)[..1]
-    } else {
-        &resolutions(args.scene)[..]
-    };
     println!(
-        "{:<8} {:>8} {:<28} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}",
-        "scene", "verts", "backend", "register", "improve", "topo M", "topo T", "residual", "total"
+        "{:<10} {:>8} {:<28} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}",
+        "sequence",
+        "verts",
+        "backend",
+        "register",
+        "improve",
+        "topo M",
+        "topo T",
+        "reconcile",
+        "residual",
+        "total"
     );
-    for &resolution in sizes {
-        let options = SynthOptions {
-            resolution,
-            frames: args.frames.max(2),
+    let frames = args.frames.max(2);
+    if let Some(input) = &args.input {
+        let sequence = discover_sequence(input)?;
+        let meshes: Vec<IndexedMesh> = sequence
+            .frames
+            .iter()
+            .take(frames)
+            .map(|(_, path)| read_frame(path).map(|f| f.mesh))
+            .collect::<Result<_, _>>()?;
+        time(&sequence.pattern, &meshes, &backends)?;
+    } else {
+        let sizes = if args.small_only {
+            &resolutions(args.scene)[..1]
+        } else {
+            &resolutions(args.scene)[..]
         };
-        let frames: Vec<_> = generate(args.scene, &options)?.collect::<Result<_, _>>()?;
-        let vertices = frames[0].mesh.positions.len();
-        for backend in &backends {
-            let track = TrackOptions::default();
-            let (mut tracker, _, _) = Tracker::start(&frames[0].mesh, backend, &track)?;
-            let mut sum = StageTimes::default();
-            for (k, frame) in frames.iter().enumerate().skip(1) {
-                let (_, log) = tracker.step(backend, k, &frame.mesh)?;
-                let t = log.times;
-                sum.register += t.register;
-                sum.improve += t.improve;
-                sum.topology_self += t.topology_self;
-                sum.topology_target += t.topology_target;
-                sum.residual += t.residual;
-                sum.total += t.total;
-            }
-            let n = (frames.len() - 1) as f64;
-            println!(
-                "{:<8} {:>8} {:<28} {:>8.0}ms {:>8.0}ms {:>8.0}ms {:>8.0}ms {:>8.0}ms {:>8.0}ms",
-                args.scene.name(),
-                vertices,
-                backend.to_string(),
-                sum.register / n,
-                sum.improve / n,
-                sum.topology_self / n,
-                sum.topology_target / n,
-                sum.residual / n,
-                sum.total / n
-            );
+        for &resolution in sizes {
+            let options = SynthOptions { resolution, frames };
+            let meshes: Vec<IndexedMesh> = generate(args.scene, &options)?
+                .map(|f| f.map(|f| f.mesh))
+                .collect::<Result<_, _>>()?;
+            time(args.scene.name(), &meshes, &backends)?;
         }
     }
     match peak_memory_mib() {
         Some(mib) => println!("peak memory (VmHWM): {mib:.0} MiB"),
         None => println!("peak memory: not available on this platform"),
+    }
+    Ok(())
+}
+
+/// Tracks `frames` on each backend and prints the mean time of each stage per frame after the
+/// first.
+fn time(name: &str, frames: &[IndexedMesh], backends: &[Backend]) -> Result<(), CliError> {
+    let Some(first) = frames.first() else {
+        return Ok(());
+    };
+    for backend in backends {
+        let track = TrackOptions::default();
+        let (mut tracker, _, _) = Tracker::start(first, backend, &track)?;
+        let mut sum = StageTimes::default();
+        for (k, frame) in frames.iter().enumerate().skip(1) {
+            let (_, log) = tracker.step(backend, k, frame)?;
+            let t = log.times;
+            sum.register += t.register;
+            sum.improve += t.improve;
+            sum.topology_self += t.topology_self;
+            sum.topology_target += t.topology_target;
+            sum.reconcile += t.reconcile;
+            sum.residual += t.residual;
+            sum.total += t.total;
+        }
+        let n = (frames.len() - 1).max(1) as f64;
+        println!(
+            "{:<10} {:>8} {:<28} {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms",
+            name,
+            first.positions.len(),
+            backend.to_string(),
+            sum.register / n,
+            sum.improve / n,
+            sum.topology_self / n,
+            sum.topology_target / n,
+            sum.reconcile / n,
+            sum.residual / n,
+            sum.total / n
+        );
     }
     Ok(())
 }
