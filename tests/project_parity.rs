@@ -13,7 +13,7 @@ mod workload;
 
 use std::sync::OnceLock;
 
-use glam::{DVec3, Vec3};
+use glam::Vec3;
 use surftrack::compute::Backend;
 use surftrack::compute::parity::{ParityReport, run_on_gpu};
 use surftrack::mesh::IndexedMesh;
@@ -230,7 +230,7 @@ fn cpu_projection_matches_brute_force() {
             c.distance,
             c.triangle
         );
-        let exact = DVec3::from(points[k].as_dvec3() + normals[k].normalize().as_dvec3() * t);
+        let exact = points[k].as_dvec3() + normals[k].normalize().as_dvec3() * t;
         assert!(exact.distance(c.point.as_dvec3()) < tol, "query {k}: point");
     }
 }

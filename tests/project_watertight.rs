@@ -184,6 +184,17 @@ fn lines_through_vertices_and_edges_never_slip_through(
             }
         }
     }
+    eprintln!(
+        "{} lines through {} vertices and edge midpoints ({}): {} slipped through",
+        points.len(),
+        targets.len(),
+        if backend.gpu().is_none() {
+            "cpu"
+        } else {
+            "gpu"
+        },
+        slipped.len()
+    );
     assert!(
         slipped.is_empty(),
         "{} of {} lines slipped through:\n{}",

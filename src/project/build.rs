@@ -140,13 +140,13 @@ pub(super) fn build(boxes: &[Aabb]) -> Tree {
         })
         .collect();
     // Unions are exact in any order, so the parallel reduction is deterministic.
-    let extent = refs
-        .par_chunks(PARALLEL_MIN)
-        .map(Extent::of)
-        .reduce(|| Extent::EMPTY, |a, b| Extent {
+    let extent = refs.par_chunks(PARALLEL_MIN).map(Extent::of).reduce(
+        || Extent::EMPTY,
+        |a, b| Extent {
             bounds: a.bounds.union(b.bounds),
             centroids: a.centroids.union(b.centroids),
-        });
+        },
+    );
     let mut nodes = vec![BinaryNode::default()];
     nodes[0] = subtree(&mut refs, 0, extent, 0, &mut nodes);
     Tree {
