@@ -82,11 +82,12 @@ fn assemble_column(
             }
         }
         let rank = b - first;
-        for q in 0..NODE_DOFS {
-            let start = pattern.col_ptr[NODE_DOFS * j + q] as usize - base + NODE_DOFS * rank;
+        let columns = &pattern.col_ptr[NODE_DOFS * j..NODE_DOFS * (j + 1)];
+        for (q, &column) in columns.iter().enumerate() {
+            let start = column as usize - base + NODE_DOFS * rank;
             let rows = if diagonal { q + 1 } else { NODE_DOFS };
-            for p in 0..rows {
-                out[start + p] = block[p][q];
+            for (slot, row) in out[start..start + rows].iter_mut().zip(&block) {
+                *slot = row[q];
             }
         }
     }

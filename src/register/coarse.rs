@@ -538,11 +538,12 @@ fn keep_better(
 ) -> usize {
     let mut replaced = 0;
     for ((slot, new), &p) in current.iter_mut().zip(fresh).zip(deformed) {
-        if let (Some(old), Some(new)) = (slot.as_ref(), new) {
-            if old != new && fit_energy(new, p, w) <= fit_energy(old, p, w) {
-                *slot = Some(*new);
-                replaced += 1;
-            }
+        if let (Some(old), Some(new)) = (slot.as_ref(), new)
+            && old != new
+            && fit_energy(new, p, w) <= fit_energy(old, p, w)
+        {
+            *slot = Some(*new);
+            replaced += 1;
         }
     }
     replaced

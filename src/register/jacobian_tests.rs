@@ -158,6 +158,21 @@ fn jacobian(p: &Problem) -> Vec<Vec<f64>> {
     rows
 }
 
+/// The stored entries `(row, column, value)` of the upper triangle of a matrix in `pattern`.
+fn entries<'a>(
+    pattern: &'a Pattern,
+    values: &'a [f64],
+) -> impl Iterator<Item = (usize, usize, f64)> + 'a {
+    pattern
+        .col_ptr
+        .windows(2)
+        .enumerate()
+        .flat_map(move |(col, range)| {
+            (range[0] as usize..range[1] as usize)
+                .map(move |k| (pattern.row_idx[k] as usize, col, values[k]))
+        })
+}
+
 fn max_abs(values: impl Iterator<Item = f64>) -> f64 {
     values.fold(0.0, |m, v| m.max(v.abs()))
 }
@@ -226,12 +241,9 @@ fn gradient_hessian_and_product_come_from_the_jacobian() {
     let mut values = vec![0.0; pattern.row_idx.len()];
     assemble(&pattern, &p.model, &p.x, &fit, &p.w, &mut values);
     let mut dense = vec![vec![0.0; n]; n];
-    for col in 0..n {
-        for k in pattern.col_ptr[col] as usize..pattern.col_ptr[col + 1] as usize {
-            let row = pattern.row_idx[k] as usize;
-            dense[row][col] = values[k];
-            dense[col][row] = values[k];
-        }
+    for (row, col, value) in entries(&pattern, &values) {
+        dense[row][col] = value;
+        dense[col][row] = value;
     }
     let scale = max_abs((0..n).map(|a| jtj(a, a)));
     let error = max_abs(
@@ -265,15 +277,12 @@ fn gradient_hessian_and_product_come_from_the_jacobian() {
     let mut bound_values = vec![0.0; bound.row_idx.len()];
     assemble(&bound, &p.model, &p.x, &fit, &p.w, &mut bound_values);
     let quadratic = |values: &[f64], pattern: &Pattern, v: &[f64]| -> f64 {
-        let mut sum = 0.0;
-        for col in 0..n {
-            for k in pattern.col_ptr[col] as usize..pattern.col_ptr[col + 1] as usize {
-                let row = pattern.row_idx[k] as usize;
+        entries(pattern, values)
+            .map(|(row, col, value)| {
                 let factor = if row == col { 1.0 } else { 2.0 };
-                sum += factor * values[k] * v[row] * v[col];
-            }
-        }
-        sum
+                factor * value * v[row] * v[col]
+            })
+            .sum()
     };
     for trial in 0..20 {
         let v: Vec<f64> = (0..n).map(|_| noise.next()).collect();

@@ -37,11 +37,11 @@ impl Units {
         }
     }
 
-    pub fn to_local(&self, p: Vec3) -> DVec3 {
+    pub fn to_local(self, p: Vec3) -> DVec3 {
         (p.as_dvec3() - self.origin) / self.unit
     }
 
-    pub fn to_world(&self, p: DVec3) -> Vec3 {
+    pub fn to_world(self, p: DVec3) -> Vec3 {
         (p * self.unit + self.origin).as_vec3()
     }
 }
