@@ -6,14 +6,17 @@
 use std::collections::BTreeMap;
 use surftrack::events::EventList;
 use surftrack::improve::{
-    ANGLE_BUCKETS, Assessment, ImproveParams, ImproveReport, Operation, RATIO_BUCKETS, Refusal,
-    Unfixed, assess, improve, one_sided_hausdorff,
+    ANGLE_BUCKETS, Assessment, ImproveParams, ImproveReport, Operation, Problem, RATIO_BUCKETS,
+    Refusal, Unfixed, assess, improve, one_sided_hausdorff,
 };
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::synth::{Scene, SynthOptions, extract, plan};
 
 /// The largest one-sided Hausdorff distance allowed, relative to the input's mean edge length.
 const MAX_MOVE: f32 = 0.05;
+
+/// The smallest fraction of a frame's triangles that must meet the angle and edge-ratio criteria.
+const MIN_PASSING: f64 = 0.995;
 
 /// Frames `indices` of `scene` at the default resolution and length.
 fn frames(scene: Scene, indices: &[usize]) -> Vec<(usize, IndexedMesh)> {
@@ -83,9 +86,8 @@ fn accumulate(total: &mut Vec<usize>, histogram: &[usize]) {
 
 /// Improves `indices` of `scene`, prints the per-frame figures and the scene's pooled histograms,
 /// worst remaining triangles and the reasons their fixes were refused, and checks the quality bar:
-/// every frame keeps at least `frame_floor` of its triangles within the criteria, and the scene's
-/// frames together at least 99.5%.
-fn check_scene(scene: Scene, indices: &[usize], frame_floor: f64) {
+/// every frame keeps at least `MIN_PASSING` of its triangles within the criteria.
+fn check_scene(scene: Scene, indices: &[usize]) {
     let (mut total, mut failing, mut worst_move) = (0usize, 0usize, 0.0f32);
     let (mut angles_before, mut angles_after) = (Vec::new(), Vec::new());
     let (mut ratios_before, mut ratios_after) = (Vec::new(), Vec::new());
@@ -107,7 +109,7 @@ fn check_scene(scene: Scene, indices: &[usize], frame_floor: f64) {
             o.events
         );
         assert!(
-            passing >= frame_floor,
+            passing >= MIN_PASSING,
             "{scene} frame {index}: only {passing:.4} of triangles pass"
         );
         assert_eq!(
@@ -145,7 +147,11 @@ fn check_scene(scene: Scene, indices: &[usize], frame_floor: f64) {
             .then(x.1.measure.total_cmp(&y.1.measure))
             .then(x.0.cmp(&y.0))
     });
-    println!("  {} bad elements left; worst:", left.len());
+    let mut problems: BTreeMap<Problem, usize> = BTreeMap::new();
+    for (_, u) in &left {
+        *problems.entry(u.problem).or_default() += 1;
+    }
+    println!("  bad elements left {problems:?}; worst:");
     for (index, u) in left.iter().take(5) {
         println!(
             "    frame {index} {:?} {:?} measure {:.3}: refused {:?}",
@@ -153,50 +159,46 @@ fn check_scene(scene: Scene, indices: &[usize], frame_floor: f64) {
         );
     }
     println!("  refusals of the fixes tried on them: {reasons:?}");
-    assert!(pooled >= 0.995, "{scene}: {pooled:.4} of triangles pass");
 }
 
 #[test]
 fn blobs() {
-    check_scene(Scene::Blobs, &[0, 21], 0.995);
+    check_scene(Scene::Blobs, &[0, 21]);
 }
 
 #[test]
 fn merge() {
-    check_scene(Scene::Merge, &[3, 17, 30], 0.995);
+    check_scene(Scene::Merge, &[3, 17, 30]);
 }
 
 #[test]
 fn split() {
-    check_scene(Scene::Split, &[6, 24], 0.995);
+    check_scene(Scene::Split, &[6, 24]);
 }
 
 #[test]
 fn droplets() {
-    check_scene(Scene::Droplets, &[5, 13, 27], 0.995);
+    check_scene(Scene::Droplets, &[5, 13, 27]);
 }
 
 #[test]
 fn morph() {
-    check_scene(Scene::Morph, &[0, 31], 0.995);
+    check_scene(Scene::Morph, &[0, 31]);
 }
 
 /// The rounded box's edges have a radius of under three grid cells (about 2.7 mean edge lengths) and
-/// its bump and notch meet the faces in creases; there the short edges marching cubes leaves cannot
-/// be collapsed without moving the surface past the deviation limit, so single frames may keep up to
-/// 1% failing triangles while the frames together stay above 99.5%.
+/// its bump and notch meet the faces in creases: there the short edges marching cubes leaves are the
+/// hardest to remove within the deviation limit, and the most triangles remain failing.
 #[test]
 fn rigid() {
-    check_scene(Scene::Rigid, &[0, 8, 16, 24, 31], 0.99);
+    check_scene(Scene::Rigid, &[0, 8, 16, 23, 26, 31]);
 }
 
-/// Every frame of every scene (a few minutes): `cargo test --release --test improve_bars -- --ignored`.
 #[test]
-#[ignore]
+#[ignore = "every frame of every scene takes about a minute; the tests above check a subset"]
 fn every_frame_of_every_scene() {
     let all: Vec<usize> = (0..SynthOptions::default().frames).collect();
     for scene in Scene::ALL {
-        let floor = if scene == Scene::Rigid { 0.99 } else { 0.995 };
-        check_scene(scene, &all, floor);
+        check_scene(scene, &all);
     }
 }

@@ -12,7 +12,7 @@ pub enum Refusal {
     Degenerate,
     /// A face would turn over (its normal would point against one it replaces).
     NormalFlip,
-    /// A flip would not raise the smallest angle of its two faces, or a split would not lower the
+    /// A flip would not raise the smallest angle of its two faces, or a split would raise the
     /// number of failing faces.
     NoGain,
     /// A new edge would be longer than the split threshold.

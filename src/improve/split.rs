@@ -64,8 +64,10 @@ pub(super) fn split_long_edges(
 /// Whether splitting the edge of `h` at its midpoint fixes a triangle without moving the surface. A
 /// triangle whose longest edge is more than `edge_ratio` times its shortest, and whose short edge
 /// cannot be collapsed without moving the surface too far, is fixed by halving its longest edge. The
-/// split must lower the number of failing faces among those it replaces and create no edge shorter
-/// than the collapse threshold, so it never feeds the collapse queue.
+/// split must not raise the number of failing faces among those it replaces: a needle that still
+/// fails after one split is half as long, and its short edge may then be collapsed without creating
+/// an edge past the split threshold. It must create no edge shorter than the collapse threshold, so
+/// it never feeds the collapse queue, and every repeated split halves an edge at least `L` long.
 pub(super) fn check_split(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<(), Refusal> {
     let t = mesh.twin(h);
     let (a, b) = (mesh.origin(h), mesh.target(h));
@@ -86,7 +88,7 @@ pub(super) fn check_split(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result
     };
     let old = [[pa, pb, pc], [pb, pa, pd]];
     let new = [[pa, m, pc], [m, pb, pc], [pb, m, pd], [m, pa, pd]];
-    if failing(&new) >= failing(&old) {
+    if failing(&new) > failing(&old) {
         return Err(Refusal::NoGain);
     }
     Ok(())
