@@ -11,8 +11,8 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use glam::Vec3;
 use surftrack::compute::{Backend, BackendChoice};
 use surftrack::grid::{
-    GridFrame, LatticeMesh, ScalarGrid, edge_faces, footprint, marching_cubes,
-    rasterize, signed_distance, sweep,
+    GridFrame, LatticeMesh, ScalarGrid, edge_faces, footprint, marching_cubes, rasterize,
+    signed_distance, sweep,
 };
 use surftrack::mesh::IndexedMesh;
 
@@ -71,7 +71,9 @@ fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("grid_rasterize");
     group.sample_size(20);
     for (name, backend) in &backends {
-        group.bench_function(*name, |b| b.iter(|| rasterize(backend, black_box(&lattice))));
+        group.bench_function(*name, |b| {
+            b.iter(|| rasterize(backend, black_box(&lattice)))
+        });
     }
     group.bench_function("cpu_cells", |b| {
         b.iter(|| {

@@ -90,8 +90,8 @@ fn torus(backend: &Backend) {
     let (major, minor) = (2.0f64, 0.8f64);
     let mesh = IndexedMesh::torus(major as f32, minor as f32, 48, 24);
     // The mesh lies between the tube of radius minor·cos(π/24)·cos(π/48) and the tube itself.
-    let inner = minor * (std::f64::consts::PI / 24.0).cos() * (std::f64::consts::PI / 48.0).cos()
-        - 1e-3;
+    let inner =
+        minor * (std::f64::consts::PI / 24.0).cos() * (std::f64::consts::PI / 48.0).cos() - 1e-3;
     check(backend, frame, &mesh, |p, _| {
         let ring = (DVec3::new(p.x, p.y, 0.0).length() - major).hypot(p.z);
         if ring < inner {

@@ -53,9 +53,11 @@ fn check(backend: &Backend, frame: GridFrame, mesh: &IndexedMesh, half_width: f3
         }
     }
     assert!(inside > 0);
-    assert!(band.corners().windows(2).all(|w| {
-        [w[0][2], w[0][1], w[0][0]] < [w[1][2], w[1][1], w[1][0]]
-    }));
+    assert!(
+        band.corners()
+            .windows(2)
+            .all(|w| { [w[0][2], w[0][1], w[0][0]] < [w[1][2], w[1][1], w[1][0]] })
+    );
     assert_eq!(band.values().len(), band.len());
     assert_eq!(band.nearest().len(), band.len());
     for (k, &c) in band.corners().iter().enumerate().step_by(7) {

@@ -128,8 +128,14 @@ fn triangle_cells_agree_with_crossings_and_geometry() {
                 let inner = triangle_meets_box(g, low + margin, low + 1.0 - margin);
                 let outer = triangle_meets_box(g, low - margin, low + 1.0 + margin);
                 let is_listed = listed.binary_search(&cell).is_ok();
-                assert!(!inner || is_listed, "triangle {t} meets {cell:?} but misses it");
-                assert!(outer || !is_listed, "triangle {t} misses {cell:?} but lists it");
+                assert!(
+                    !inner || is_listed,
+                    "triangle {t} meets {cell:?} but misses it"
+                );
+                assert!(
+                    outer || !is_listed,
+                    "triangle {t} misses {cell:?} but lists it"
+                );
             }
             union.extend(listed.iter().map(|c| [c[2], c[1], c[0]]));
         }

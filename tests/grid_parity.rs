@@ -145,11 +145,19 @@ fn compare(what: &str, got: &Outputs, reference: &Outputs, tolerance: f64, spaci
                 j += 1;
             }
             std::cmp::Ordering::Less => {
-                assert!(cells(a.values()[i]).abs() > limit, "{what}: only backend has {:?}", a.corners()[i]);
+                assert!(
+                    cells(a.values()[i]).abs() > limit,
+                    "{what}: only backend has {:?}",
+                    a.corners()[i]
+                );
                 i += 1;
             }
             std::cmp::Ordering::Greater => {
-                assert!(cells(b.values()[j]).abs() > limit, "{what}: only reference has {:?}", b.corners()[j]);
+                assert!(
+                    cells(b.values()[j]).abs() > limit,
+                    "{what}: only reference has {:?}",
+                    b.corners()[j]
+                );
                 j += 1;
             }
         }

@@ -67,6 +67,12 @@ fn push_run(list: &mut Vec<[i32; 2]>, run: [i32; 2]) {
     }
 }
 
+/// Row keys of one group of rows, in order.
+type RowKeys = Vec<[i32; 2]>;
+
+/// The runs of each row of one group of rows.
+type RowRuns = Vec<Vec<[i32; 2]>>;
+
 /// Each row `(a, b)` of cells spreads to the corner rows `(a, b - reach ..= b + 1 + reach)`.
 fn dilate_inner(rows: &Rows, reach: i32) -> Rows {
     // Rows sharing the outer key form a group; groups are independent.
@@ -77,7 +83,7 @@ fn dilate_inner(rows: &Rows, reach: i32) -> Rows {
             _ => groups.push((r, r + 1)),
         }
     }
-    let per_group: Vec<(Vec<[i32; 2]>, Vec<Vec<[i32; 2]>>)> = groups
+    let per_group: Vec<(RowKeys, RowRuns)> = groups
         .par_iter()
         .map(|&(first, end)| {
             let outer = rows.keys[first][0];
@@ -132,7 +138,10 @@ fn transpose(rows: &Rows) -> Rows {
             [k[1], k[0]]
         })
         .collect();
-    let lists = order.iter().map(|&r| rows.of(r as usize).to_vec()).collect();
+    let lists = order
+        .iter()
+        .map(|&r| rows.of(r as usize).to_vec())
+        .collect();
     Rows::from_lists(keys, lists)
 }
 
@@ -160,7 +169,9 @@ mod tests {
         let mut cells: Vec<[i32; 3]> = Vec::new();
         let mut x = 12345u64;
         for _ in 0..300 {
-            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             let r = |s: u32| ((x >> s) % 23) as i32 - 11;
             cells.push([r(10), r(20), r(30)]);
         }

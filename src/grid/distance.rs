@@ -41,7 +41,10 @@ impl Nearest {
         wgsl: &SharedWgsl::DISTANCE,
         size: size_of::<Self>(),
         members: &[
-            ("distance_squared", core::mem::offset_of!(Self, distance_squared)),
+            (
+                "distance_squared",
+                core::mem::offset_of!(Self, distance_squared),
+            ),
             ("slot", core::mem::offset_of!(Self, slot)),
         ],
     };
@@ -128,14 +131,16 @@ pub fn signed_distance(
             job.read(context)?
         }
     };
-    Ok(sign_and_keep(mesh, &tree, &rows, &nearest, windings, half_width))
+    Ok(sign_and_keep(
+        mesh, &tree, &rows, &nearest, windings, half_width,
+    ))
 }
 
 /// Corners of a tile along x; tiles are aligned to multiples of it.
-const CHUNK_LEN: i32 = 8;
+const CHUNK_LEN: i32 = 4;
 
 /// Rows of a tile along y and along z.
-const TILE_ROWS: i32 = 4;
+const TILE_ROWS: i32 = 2;
 
 /// Most triangles gathered for one tile (the kernel's private array); a tile near more falls
 /// back to one tree search per corner.
@@ -253,15 +258,22 @@ struct Gathered {
     boxes: Vec<TriangleBox>,
     plane: Vec<f32>,
     normal: Vec<[f32; 3]>,
-    /// Per chunk: squared distance from the chunk's line to the box across y and z, and the
-    /// plane's signed distance at the chunk's first corner.
+    /// Per chunk, of the triangles near its segment: their slots, squared distance from the
+    /// chunk's line to the box across y and z, the plane's signed distance at the chunk's first
+    /// corner, the box along x and the normal's x component.
+    near: Vec<u32>,
     across: Vec<f32>,
     plane_at: Vec<f32>,
+    box_x: Vec<[f32; 2]>,
+    normal_x: Vec<f32>,
     bounds: Vec<f32>,
 }
 
 /// CPU twin of `kernels/distance.wgsl`: one closure call per kernel invocation (one tile); the
-/// results are then placed at their chunks' output offsets.
+/// results are then placed at their chunks' output offsets. Here a tile holds up to
+/// [`TILE_ROWS`]² chunks sharing one gather, and the lower bounds are cached per tile and chunk;
+/// the GPU runs one chunk per tile and recomputes the bounds ([`GpuDistance`] says why). Both
+/// find the least distance within the band, so they agree up to rounding.
 fn distance_cpu(
     tree: &TriangleTree,
     chunks: &[BandChunk],
@@ -288,7 +300,10 @@ fn distance_cpu(
         let mut results = results.into_iter();
         for chunk in own {
             let out = chunk.out as usize;
-            for (slot, r) in nearest[out..out + chunk.len as usize].iter_mut().zip(&mut results) {
+            for (slot, r) in nearest[out..out + chunk.len as usize]
+                .iter_mut()
+                .zip(&mut results)
+            {
                 *slot = r;
             }
         }
@@ -317,7 +332,8 @@ fn tile_nearest(
     for c in chunks {
         for a in 0..3 {
             first_corner[a] = first_corner[a].min(c.first[a]);
-            last_corner[a] = last_corner[a].max(c.first[a] + if a == 0 { c.len as i32 - 1 } else { 0 });
+            last_corner[a] =
+                last_corner[a].max(c.first[a] + if a == 0 { c.len as i32 - 1 } else { 0 });
         }
     }
     let lo = tree.local(first_corner);
@@ -343,33 +359,48 @@ fn tile_nearest(
         g.boxes.push(tree.boxes()[slot as usize]);
         let t = &tree.triangles()[slot as usize];
         let p: [f32; 3] = std::array::from_fn(|k| (first_corner[k] - t.base[k]) as f32);
-        g.plane.push(t.normal[0] * p[0] + t.normal[1] * p[1] + t.normal[2] * p[2] - t.offset);
+        g.plane
+            .push(t.normal[0] * p[0] + t.normal[1] * p[1] + t.normal[2] * p[2] - t.offset);
         g.normal.push(t.normal);
     }
     for c in chunks {
         let start = tree.local(c.first);
         let offset: [f32; 3] = std::array::from_fn(|k| (c.first[k] - first_corner[k]) as f32);
+        let last_x = start[0] + (c.len - 1) as f32;
+        // The triangles near the chunk's segment: a box farther than the band from all of the
+        // segment holds no corner's nearest triangle.
+        g.near.clear();
         g.across.clear();
         g.plane_at.clear();
-        for ((b, &plane), n) in g.boxes.iter().zip(&g.plane).zip(&g.normal) {
+        g.box_x.clear();
+        g.normal_x.clear();
+        for (k, ((b, &plane), n)) in g.boxes.iter().zip(&g.plane).zip(&g.normal).enumerate() {
             let gap = |a: usize| max(max(b.min[a] - start[a], start[a] - b.max[a]), 0.0);
-            g.across.push(gap(1) * gap(1) + gap(2) * gap(2));
-            g.plane_at.push(plane + n[0] * offset[0] + n[1] * offset[1] + n[2] * offset[2]);
+            let across = gap(1) * gap(1) + gap(2) * gap(2);
+            let along = max(max(b.min[0] - last_x, start[0] - b.max[0]), 0.0);
+            if across + along * along < bound {
+                g.near.push(g.slots[k]);
+                g.across.push(across);
+                g.plane_at
+                    .push(plane + n[0] * offset[0] + n[1] * offset[1] + n[2] * offset[2]);
+                g.box_x.push([b.min[0], b.max[0]]);
+                g.normal_x.push(n[0]);
+            }
         }
-        g.bounds.resize(g.slots.len(), 0.0);
+        g.bounds.resize(g.near.len(), 0.0);
         let mut hint = None;
         for i in 0..c.len as i32 {
             let x = start[0] + i as f32;
             let step = i as f32;
             let corner = [c.first[0] + i, c.first[1], c.first[2]];
-            for ((lower, (&across, b)), (&plane, n)) in g
+            for ((lower, (&across, b)), (&plane, &n)) in g
                 .bounds
                 .iter_mut()
-                .zip(g.across.iter().zip(&g.boxes))
-                .zip(g.plane_at.iter().zip(&g.normal))
+                .zip(g.across.iter().zip(&g.box_x))
+                .zip(g.plane_at.iter().zip(&g.normal_x))
             {
-                let gap = max(max(b.min[0] - x, x - b.max[0]), 0.0);
-                let to_plane = max((plane + n[0] * step).abs() - PLANE_SLACK, 0.0);
+                let gap = max(max(b[0] - x, x - b[1]), 0.0);
+                let to_plane = max((plane + n * step).abs() - PLANE_SLACK, 0.0);
                 *lower = max(across + gap * gap, to_plane * to_plane);
             }
             // The previous corner's nearest triangle, or else the one with the least bound.
@@ -390,7 +421,7 @@ fn tile_nearest(
             let mut best = bound;
             let mut found = None;
             if g.bounds.get(first).is_some_and(|&lower| lower < best) {
-                let d = tree.triangles()[g.slots[first] as usize].distance_squared(corner);
+                let d = tree.triangles()[g.near[first] as usize].distance_squared(corner);
                 if d < best {
                     best = d;
                     found = Some(first);
@@ -404,7 +435,7 @@ fn tile_nearest(
                 for (j, &lower) in block.iter().enumerate() {
                     let k = b * SKIP_BLOCK + j;
                     if lower < best && k != first {
-                        let d = tree.triangles()[g.slots[k] as usize].distance_squared(corner);
+                        let d = tree.triangles()[g.near[k] as usize].distance_squared(corner);
                         if d < best {
                             best = d;
                             found = Some(k);
@@ -415,7 +446,7 @@ fn tile_nearest(
             hint = found;
             out.push(Nearest {
                 distance_squared: best,
-                slot: found.map_or(Nearest::NONE, |k| g.slots[k]),
+                slot: found.map_or(Nearest::NONE, |k| g.near[k]),
             });
         }
     }
@@ -436,7 +467,11 @@ fn sign_and_keep(
     let mut n = 0usize;
     for r in 0..rows.keys.len() {
         offsets.push(n);
-        n += rows.of(r).iter().map(|run| (run[1] - run[0] + 1) as usize).sum::<usize>();
+        n += rows
+            .of(r)
+            .iter()
+            .map(|run| (run[1] - run[0] + 1) as usize)
+            .sum::<usize>();
     }
     offsets.push(n);
     let kept: Vec<Vec<([i32; 3], f32, u32)>> = (0..rows.keys.len())
@@ -444,7 +479,10 @@ fn sign_and_keep(
         .with_min_len(8)
         .map(|r| {
             let [k, j] = rows.keys[r];
-            let runs = windings.on_line(&GridLine { axis: 0, at: [j, k] });
+            let runs = windings.on_line(&GridLine {
+                axis: 0,
+                at: [j, k],
+            });
             let mut next_run = 0;
             let mut winding = 0;
             let corners = rows.of(r).iter().flat_map(|run| run[0]..=run[1]);

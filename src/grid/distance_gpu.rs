@@ -34,7 +34,7 @@ impl DistanceParams {
 
 /// A triangle tree and candidate corners uploaded for `kernels/distance.wgsl`, one chunk per tile.
 ///
-/// The CPU twin shares one gather among the chunks of an 8 × 4 × 4 tile; on the GPU each chunk is
+/// The CPU twin shares one gather among the chunks of a 4 × 2 × 2 tile; on the GPU each chunk is
 /// a tile of its own. That gives a GPU thousands more invocations to schedule, and it keeps every
 /// invocation within lavapipe's bound on the loop iterations of one invocation (65 535 in all,
 /// after which llvmpipe leaves the loops silently: a whole tile's corners against a full gather

@@ -271,7 +271,10 @@ mod tests {
         let expected = ((0.3f32 as f64 / 0.25 - 1.0) * CELL_UNITS as f64).round() as u32;
         assert_eq!(p.frac[2], expected);
         // On a plane: the cell above, as the perturbation (mesh shifted by +ε) says.
-        assert_eq!(frame.snap(0, Vec3::new(-0.25, 0.0, 0.0)).unwrap().cell, [-1, 0, 0]);
+        assert_eq!(
+            frame.snap(0, Vec3::new(-0.25, 0.0, 0.0)).unwrap().cell,
+            [-1, 0, 0]
+        );
     }
 
     #[test]
@@ -291,7 +294,14 @@ mod tests {
     #[test]
     fn cell_keys_sort_by_z_y_x_and_round_trip() {
         let m = MAX_CELL_INDEX + 1;
-        let mut cells = vec![[0, 0, 0], [-m, m, 3], [m, -m, 3], [5, 5, -m], [-1, 0, 0], [0, -1, 0]];
+        let mut cells = vec![
+            [0, 0, 0],
+            [-m, m, 3],
+            [m, -m, 3],
+            [5, 5, -m],
+            [-1, 0, 0],
+            [0, -1, 0],
+        ];
         for &c in &cells {
             assert_eq!(key_cell(cell_key(c)), c);
         }
@@ -316,10 +326,7 @@ mod tests {
             frame.snap(1, Vec3::new(0.0, 2e6, 0.0)),
             Err(RasterError::OutOfRange { vertex: 1, .. })
         ));
-        let mesh = IndexedMesh::new(
-            vec![Vec3::ZERO, Vec3::X * 5000.0, Vec3::Y],
-            vec![[0, 1, 2]],
-        );
+        let mesh = IndexedMesh::new(vec![Vec3::ZERO, Vec3::X * 5000.0, Vec3::Y], vec![[0, 1, 2]]);
         assert_eq!(
             LatticeMesh::new(frame, &mesh),
             Err(RasterError::TriangleTooLarge {

@@ -44,8 +44,7 @@ pub fn mesh_edges(triangles: &[[u32; 3]]) -> Vec<[u32; 2]> {
     let mut keys: Vec<u64> = triangles
         .par_iter()
         .flat_map_iter(|&[a, b, c]| {
-            [[a, b], [b, c], [c, a]]
-                .map(|[p, q]| u64::from(p.min(q)) << 32 | u64::from(p.max(q)))
+            [[a, b], [b, c], [c, a]].map(|[p, q]| u64::from(p.min(q)) << 32 | u64::from(p.max(q)))
         })
         .collect();
     keys.par_sort_unstable();
@@ -178,11 +177,7 @@ pub fn cells_around(c: &GridCrossing) -> [[i32; 3]; 4] {
 /// crossing. Its size follows the surface's area; it is what the grid stores per cell.
 pub fn footprint(mesh: &LatticeMesh, crossings: &Crossings, faces: &[EdgeFace]) -> Vec<[i32; 3]> {
     let mut keys: Vec<u64> = mesh.points().par_iter().map(|p| cell_key(p.cell)).collect();
-    keys.par_extend(
-        faces
-            .par_iter()
-            .flat_map_iter(|f| f.cells().map(cell_key)),
-    );
+    keys.par_extend(faces.par_iter().flat_map_iter(|f| f.cells().map(cell_key)));
     keys.par_extend(
         crossings
             .all()

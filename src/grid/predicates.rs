@@ -35,7 +35,11 @@ fn sign<T: Into<i128>>(x: T) -> i32 {
 /// Sign of the first non-zero value, 0 if all are zero: how a tie is read from the coefficients of
 /// `ε`, `ε²`, `ε³` listed in that order.
 fn first_sign(values: &[i64]) -> i32 {
-    values.iter().map(|&v| sign(v)).find(|&s| s != 0).unwrap_or(0)
+    values
+        .iter()
+        .map(|&v| sign(v))
+        .find(|&s| s != 0)
+        .unwrap_or(0)
 }
 
 /// A triangle with its corners as lattice offsets from its lowest cell (`base`).

@@ -8,12 +8,12 @@
 
 use rayon::prelude::*;
 
+use super::RasterError;
 use super::crossing::GridCrossing;
 use super::lattice::{LatticeMesh, cell_range};
 use super::predicates::{LocalTriangle, cross_axes, line_crossing};
 use super::rasterize_gpu::GpuRasterize;
 use super::sparse::Crossings;
-use super::RasterError;
 use crate::compute::Backend;
 
 /// Every grid-edge crossing of `mesh`, grouped by grid line.

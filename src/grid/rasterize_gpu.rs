@@ -39,7 +39,8 @@ impl GpuRasterize {
         let mut offsets = Vec::with_capacity(counts.len() + 1);
         let mut total = 0u64;
         for c in counts {
-            offsets.push(u32::try_from(total).map_err(|_| RasterError::TooManyItems(total as usize))?);
+            offsets
+                .push(u32::try_from(total).map_err(|_| RasterError::TooManyItems(total as usize))?);
             total += c;
         }
         let candidates =

@@ -188,7 +188,10 @@ impl Windings {
             .for_each(|(row, values)| {
                 let j = lo[1] + (row % dims[1].max(1)) as i32;
                 let k = lo[2] + (row / dims[1].max(1)) as i32;
-                let runs = self.on_line(&GridLine { axis: 0, at: [j, k] });
+                let runs = self.on_line(&GridLine {
+                    axis: 0,
+                    at: [j, k],
+                });
                 if runs.is_empty() {
                     return;
                 }

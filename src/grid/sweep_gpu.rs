@@ -42,11 +42,7 @@ impl GpuSweep {
         let Some(b) = &self.buffers else {
             return Ok(());
         };
-        context.dispatch(
-            "sweep",
-            &[&b.crossings, &b.starts, &b.runs],
-            b.lines as u64,
-        )?;
+        context.dispatch("sweep", &[&b.crossings, &b.starts, &b.runs], b.lines as u64)?;
         Ok(())
     }
 

@@ -140,9 +140,8 @@ const PARALLEL_BUILD: usize = 4096;
 impl TriangleTree {
     pub fn build(mesh: &LatticeMesh) -> Self {
         let points = mesh.points();
-        let base: [i32; 3] = std::array::from_fn(|a| {
-            points.iter().map(|p| p.cell[a]).min().unwrap_or(0)
-        });
+        let base: [i32; 3] =
+            std::array::from_fn(|a| points.iter().map(|p| p.cell[a]).min().unwrap_or(0));
         let coordinate = |p: &LatticePoint, a: usize| {
             f64::from(p.cell[a] - base[a]) + f64::from(p.frac[a]) / CELL_UNITS as f64
         };
@@ -152,10 +151,14 @@ impl TriangleTree {
             .map(|tri| {
                 let p = tri.map(|v| points[v as usize]);
                 let min: [f64; 3] = std::array::from_fn(|a| {
-                    p.iter().map(|q| coordinate(q, a)).fold(f64::INFINITY, f64::min)
+                    p.iter()
+                        .map(|q| coordinate(q, a))
+                        .fold(f64::INFINITY, f64::min)
                 });
                 let max: [f64; 3] = std::array::from_fn(|a| {
-                    p.iter().map(|q| coordinate(q, a)).fold(f64::NEG_INFINITY, f64::max)
+                    p.iter()
+                        .map(|q| coordinate(q, a))
+                        .fold(f64::NEG_INFINITY, f64::max)
                 });
                 TriangleBox {
                     min: min.map(round_down),
@@ -179,7 +182,10 @@ impl TriangleTree {
             .par_iter()
             .map(|item| tree_triangle(mesh, item.id))
             .collect();
-        let boxes = items.iter().map(|item| boxes_by_id[item.id as usize]).collect();
+        let boxes = items
+            .iter()
+            .map(|item| boxes_by_id[item.id as usize])
+            .collect();
         Self {
             base,
             nodes,
@@ -392,9 +398,8 @@ fn build_node(
 /// Triangle `t` with its corners as offsets from its lowest cell.
 fn tree_triangle(mesh: &LatticeMesh, t: u32) -> TreeTriangle {
     let corners = mesh.corners(t as usize);
-    let base: [i32; 3] = std::array::from_fn(|a| {
-        corners.iter().map(|p| p.cell[a]).min().unwrap_or(0)
-    });
+    let base: [i32; 3] =
+        std::array::from_fn(|a| corners.iter().map(|p| p.cell[a]).min().unwrap_or(0));
     let local = |p: &LatticePoint| -> [f64; 3] {
         std::array::from_fn(|a| {
             f64::from(p.cell[a] - base[a]) + f64::from(p.frac[a]) / CELL_UNITS as f64

@@ -161,8 +161,8 @@ pub fn grid_box(frame: &GridFrame, lo: [i32; 3], hi: [i32; 3]) -> IndexedMesh {
                         c[v] = b + dv;
                         c
                     };
-                    let q = [at(0, 0), at(1, 0), at(1, 1), at(0, 1)]
-                        .map(|c| vertex(c, &mut positions));
+                    let q =
+                        [at(0, 0), at(1, 0), at(1, 1), at(0, 1)].map(|c| vertex(c, &mut positions));
                     // (u, v, axis) is right-handed: counter-clockwise in (u, v) faces +axis.
                     if side > 0 {
                         triangles.push([q[0], q[1], q[2]]);
