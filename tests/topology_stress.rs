@@ -31,5 +31,4 @@ fn random_cases_never_fail() {
         eprintln!("{f}");
     }
     assert!(failures.is_empty());
-    assert!(worst <= 0.5);
 }

@@ -7,8 +7,8 @@
 use super::ComputeError;
 use super::aabb::Aabb;
 use crate::grid::{
-    BandChunk, BandTile, DistanceParams, GridCrossing, LatticePoint, Nearest, TreeNode, TreeTriangle,
-    TriangleBox, WindingRun,
+    BandChunk, BandTile, DistanceParams, GridCrossing, LatticePoint, Nearest, TreeNode,
+    TreeTriangle, TriangleBox, WindingRun,
 };
 use crate::project::{
     BvhNode, BvhTriangle, Correspondence, NormalTriple, PseudoNormals, QueryParams,

@@ -6,9 +6,8 @@
 //! one edge keep a gap, and a crossing moves a thousandth of a cell into its triangle, off the
 //! triangle's sides: a mesh edge lying on a grid line, or a vertex on a grid corner, would otherwise
 //! put a crossing exactly on the line through the pierce points of that edge, and a piece of the cut
-//! would have zero area. Fill points lie on Θ's zero set: on grid edges by linear interpolation, and loop
-//! centres by Newton steps on the trilinear interpolant from the loop's centroid, kept inside their
-//! cell.
+//! would have zero area. Fill points lie on Θ's zero set: on grid edges by linear interpolation, and
+//! loop centres on the trilinear interpolant inside their cell (see [`centre`]).
 
 use glam::DVec3;
 use rustc_hash::FxHashMap;
@@ -111,7 +110,13 @@ pub(crate) fn position(
     }
 }
 
-/// Position of the centre of a loop of `cell` whose points are at `around`.
+/// Position of the centre of a loop of `cell` whose points are at `around`: Newton steps on the
+/// trilinear interpolant from the loop's centroid. Where they stall (against the cell's margin, by
+/// a sheet leaving the cell near the centroid, a cap of Θ around one corner, or two sheets in one
+/// cell), the zero crossing nearest the centroid on a lattice of samples over the closed cell,
+/// moved inside the margin and refined by Newton steps if they converge from there. A cell with a
+/// sign change always has such a crossing (at least on its edges), so a centre lies within a
+/// lattice step plus the margin's diagonal (about 0.12 cell) of Θ's zero set.
 pub(crate) fn centre(field: &Field, cell: Cell, around: &[DVec3]) -> DVec3 {
     let frame = field.frame();
     let base = DVec3::from_array(cell.map(f64::from));
@@ -119,22 +124,90 @@ pub(crate) fn centre(field: &Field, cell: Cell, around: &[DVec3]) -> DVec3 {
         .iter()
         .fold(DVec3::ZERO, |s, &p| s + to_grid(frame, p))
         / around.len() as f64;
-    let clamp = |g: DVec3| {
-        g.clamp(
-            DVec3::splat(CENTRE_MARGIN),
-            DVec3::splat(1.0 - CENTRE_MARGIN),
-        )
-    };
     let values = field.cell_values(cell);
-    let mut local = clamp(mean - base);
+    let start = clamp_local(mean - base);
+    let mut local = newton(&values, start);
+    if residual(&values, local) > CENTRE_TOLERANCE
+        && let Some(near) = nearest_crossing(&values, mean - base)
+    {
+        let near = clamp_local(near);
+        let refined = newton(&values, near);
+        local = if residual(&values, refined) <= CENTRE_TOLERANCE {
+            refined
+        } else {
+            near
+        };
+    }
+    to_world(frame, base + local)
+}
+
+/// Residual (in cells) below which Newton steps count as converged onto Θ's zero set.
+const CENTRE_TOLERANCE: f64 = 1e-3;
+
+/// Lattice steps per cell side in the search for a zero crossing.
+const CENTRE_SAMPLES: usize = 12;
+
+fn clamp_local(g: DVec3) -> DVec3 {
+    g.clamp(
+        DVec3::splat(CENTRE_MARGIN),
+        DVec3::splat(1.0 - CENTRE_MARGIN),
+    )
+}
+
+/// Newton steps towards the zero set of the interpolant, kept inside the cell's margin.
+fn newton(values: &[f32; 8], start: DVec3) -> DVec3 {
+    let mut local = start;
     for _ in 0..CENTRE_STEPS {
-        let (value, gradient) = Field::trilinear(&values, local.to_array());
+        let (value, gradient) = Field::trilinear(values, local.to_array());
         let g = DVec3::from_array(gradient);
         let norm = g.length_squared();
         if !(norm > 0.0 && value.is_finite()) {
             break;
         }
-        local = clamp(local - g * (value / norm));
+        local = clamp_local(local - g * (value / norm));
     }
-    to_world(frame, base + local)
+    local
+}
+
+/// First-order distance (in cells) from a local point to the interpolant's zero set.
+fn residual(values: &[f32; 8], local: DVec3) -> f64 {
+    let (value, gradient) = Field::trilinear(values, local.to_array());
+    let norm = DVec3::from_array(gradient).length();
+    if norm > 0.0 && value.is_finite() {
+        value.abs() / norm
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The zero crossing nearest `from` along the lines of a lattice of samples over the closed cell,
+/// placed by linear interpolation between two samples; `None` when no line crosses (no sign change
+/// in the cell).
+fn nearest_crossing(values: &[f32; 8], from: DVec3) -> Option<DVec3> {
+    let n = CENTRE_SAMPLES;
+    let point = |i: [usize; 3]| DVec3::from_array(i.map(|k| k as f64 / n as f64));
+    let value = |p: DVec3| Field::trilinear(values, p.to_array()).0;
+    let mut best: Option<(f64, DVec3)> = None;
+    for x in 0..=n {
+        for y in 0..=n {
+            for z in 0..=n {
+                let i = [x, y, z];
+                let (p, a) = (point(i), value(point(i)));
+                for axis in (0..3).filter(|&axis| i[axis] < n) {
+                    let mut j = i;
+                    j[axis] += 1;
+                    let (q, b) = (point(j), value(point(j)));
+                    if (a < 0.0) == (b < 0.0) {
+                        continue;
+                    }
+                    let c = p + (q - p) * (a / (a - b)).clamp(0.0, 1.0);
+                    let d = c.distance_squared(from);
+                    if best.is_none_or(|(e, _)| d < e) {
+                        best = Some((d, c));
+                    }
+                }
+            }
+        }
+    }
+    best.map(|(_, c)| c)
 }

@@ -247,27 +247,16 @@ pub fn reference(theta: &Field, mesh: &IndexedMesh) -> IndexedMesh {
     marching_cubes(&grid, 0.0)
 }
 
-/// Distance in cells from `p` to Θ's zero set, estimated from the trilinear interpolant of the
-/// cell holding `p` (value over gradient length).
-pub fn level_distance(theta: &Field, p: Vec3) -> f64 {
-    let frame = theta.frame();
-    let g = (p - frame.origin()) / frame.spacing();
-    let cell = [g.x.floor() as i32, g.y.floor() as i32, g.z.floor() as i32];
-    let local = [
-        g.x - cell[0] as f32,
-        g.y - cell[1] as f32,
-        g.z - cell[2] as f32,
-    ]
-    .map(f64::from);
+/// Θ by trilinear interpolation at grid coordinates `g`, and its gradient in grid units.
+fn trilinear(theta: &Field, g: [f64; 3]) -> (f64, [f64; 3]) {
+    let cell = g.map(|x| x.floor() as i32);
+    let local: [f64; 3] = std::array::from_fn(|a| g[a] - f64::from(cell[a]));
     let mut value = 0.0;
     let mut gradient = [0.0f64; 3];
     for c in 0..8usize {
         let o = [c & 1, (c >> 1) & 1, (c >> 2) & 1];
-        let v = f64::from(theta.value([
-            cell[0] + o[0] as i32,
-            cell[1] + o[1] as i32,
-            cell[2] + o[2] as i32,
-        ]));
+        let corner: [i32; 3] = std::array::from_fn(|a| cell[a] + o[a] as i32);
+        let v = f64::from(theta.value(corner));
         let w: [f64; 3] =
             std::array::from_fn(|a| if o[a] == 1 { local[a] } else { 1.0 - local[a] });
         let s: [f64; 3] = std::array::from_fn(|a| if o[a] == 1 { 1.0 } else { -1.0 });
@@ -276,8 +265,58 @@ pub fn level_distance(theta: &Field, p: Vec3) -> f64 {
         gradient[1] += v * w[0] * s[1] * w[2];
         gradient[2] += v * w[0] * w[1] * s[2];
     }
-    let norm = (gradient[0].powi(2) + gradient[1].powi(2) + gradient[2].powi(2)).sqrt();
-    if norm > 0.0 { value.abs() / norm } else { 0.0 }
+    (value, gradient)
+}
+
+/// Distance in cells from `p` to Θ's zero set (the zero set of its trilinear interpolant). Where
+/// the first-order estimate (value over gradient length) says the point is within 0.05 cell, that
+/// estimate; otherwise the distance to the nearest sign change on a lattice of 16 steps per cell
+/// over the 3 × 3 × 3 cells around the point (a point whose zero set lies farther counts as 1.5
+/// cells away).
+pub fn level_distance(theta: &Field, p: Vec3) -> f64 {
+    let frame = theta.frame();
+    let g = ((p.as_dvec3() - frame.origin().as_dvec3()) / f64::from(frame.spacing())).to_array();
+    let (value, gradient) = trilinear(theta, g);
+    let norm = gradient.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let estimate = if norm > 0.0 {
+        value.abs() / norm
+    } else {
+        f64::INFINITY
+    };
+    if estimate <= 0.05 {
+        return estimate;
+    }
+    const STEPS: i32 = 16;
+    let lo: [i32; 3] = std::array::from_fn(|a| (g[a].floor() as i32 - 1) * STEPS);
+    let at = |i: [i32; 3]| i.map(|k| f64::from(k) / f64::from(STEPS));
+    let mut best = 1.5f64;
+    for x in 0..=3 * STEPS {
+        for y in 0..=3 * STEPS {
+            for z in 0..=3 * STEPS {
+                let i = [lo[0] + x, lo[1] + y, lo[2] + z];
+                let a = trilinear(theta, at(i)).0;
+                for axis in 0..3 {
+                    let mut j = i;
+                    j[axis] += 1;
+                    if j[axis] > lo[axis] + 3 * STEPS {
+                        continue;
+                    }
+                    let b = trilinear(theta, at(j)).0;
+                    if (a < 0.0) == (b < 0.0) {
+                        continue;
+                    }
+                    let t = (a / (a - b)).clamp(0.0, 1.0);
+                    let (pi, pj) = (at(i), at(j));
+                    let d = (0..3)
+                        .map(|k| (pi[k] + t * (pj[k] - pi[k]) - g[k]).powi(2))
+                        .sum::<f64>()
+                        .sqrt();
+                    best = best.min(d);
+                }
+            }
+        }
+    }
+    best
 }
 
 /// What one checked case showed.
