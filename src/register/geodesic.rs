@@ -3,45 +3,12 @@
 //! separate components, and parts that touch in space but not along the surface, apart (paper §4.2,
 //! Fig. 5).
 
-use std::cmp::Ordering;
-use std::collections::{BinaryHeap, VecDeque};
+use std::collections::VecDeque;
 
 use glam::Vec3;
 
 use super::adjacency::VertexAdjacency;
-
-/// A tentative distance in a min-heap: the smallest distance first, ties broken by vertex then source
-/// so the search visits vertices in one order whatever the platform.
-#[derive(Debug, Clone, Copy)]
-struct Tentative {
-    distance: f32,
-    vertex: u32,
-    source: u32,
-}
-
-impl PartialEq for Tentative {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == Ordering::Equal
-    }
-}
-
-impl Eq for Tentative {}
-
-impl PartialOrd for Tentative {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for Tentative {
-    fn cmp(&self, other: &Self) -> Ordering {
-        other
-            .distance
-            .total_cmp(&self.distance)
-            .then(other.vertex.cmp(&self.vertex))
-            .then(other.source.cmp(&self.source))
-    }
-}
+use super::radix_heap::RadixHeap;
 
 /// Vertices chosen as graph nodes so that nodes are at least `spacing` apart along the surface and
 /// every vertex lies within `spacing` of one (a geodesic Poisson-disk sample).
@@ -53,33 +20,25 @@ pub fn sample(adjacency: &VertexAdjacency, positions: &[Vec3], spacing: f32) -> 
     let n = adjacency.vertex_count();
     let mut cover = vec![f32::INFINITY; n];
     let mut nodes = Vec::new();
-    let mut heap = BinaryHeap::new();
+    let mut heap = RadixHeap::new();
     for v in breadth_first_order(adjacency) {
         if cover[v as usize] < spacing {
             continue;
         }
-        let source = nodes.len() as u32;
         nodes.push(v);
         cover[v as usize] = 0.0;
-        heap.push(Tentative {
-            distance: 0.0,
-            vertex: v,
-            source,
-        });
-        while let Some(t) = heap.pop() {
-            if t.distance > cover[t.vertex as usize] {
+        heap.restart();
+        heap.push(0.0, v);
+        while let Some((distance, vertex)) = heap.pop() {
+            if distance > cover[vertex as usize] {
                 continue;
             }
-            let p = positions[t.vertex as usize];
-            for &u in adjacency.neighbours(t.vertex as usize) {
-                let d = t.distance + p.distance(positions[u as usize]);
+            let p = positions[vertex as usize];
+            for &u in adjacency.neighbours(vertex as usize) {
+                let d = distance + p.distance(positions[u as usize]);
                 if d < spacing && d < cover[u as usize] {
                     cover[u as usize] = d;
-                    heap.push(Tentative {
-                        distance: d,
-                        vertex: u,
-                        source,
-                    });
+                    heap.push(d, u);
                 }
             }
         }
@@ -136,38 +95,29 @@ impl NearestNodes {
         let count = count.clamp(1, u8::MAX as usize);
         let mut labels = vec![(u32::MAX, f32::INFINITY); n * count];
         let mut filled = vec![0u8; n];
-        let mut heap: BinaryHeap<Tentative> = nodes
-            .iter()
-            .enumerate()
-            .map(|(source, &vertex)| Tentative {
-                distance: 0.0,
-                vertex,
-                source: source as u32,
-            })
-            .collect();
+        let mut heap = RadixHeap::new();
+        for (source, &vertex) in nodes.iter().enumerate() {
+            heap.push(0.0, (vertex, source as u32));
+        }
         let has = |labels: &[(u32, f32)], filled: &[u8], v: usize, source: u32| {
             labels[v * count..v * count + filled[v] as usize]
                 .iter()
                 .any(|&(s, _)| s == source)
         };
-        while let Some(t) = heap.pop() {
-            let v = t.vertex as usize;
-            if filled[v] as usize == count || has(&labels, &filled, v, t.source) {
+        while let Some((distance, (vertex, source))) = heap.pop() {
+            let v = vertex as usize;
+            if filled[v] as usize == count || has(&labels, &filled, v, source) {
                 continue;
             }
-            labels[v * count + filled[v] as usize] = (t.source, t.distance);
+            labels[v * count + filled[v] as usize] = (source, distance);
             filled[v] += 1;
             let p = positions[v];
             for &u in adjacency.neighbours(v) {
                 let u = u as usize;
-                if filled[u] as usize == count || has(&labels, &filled, u, t.source) {
+                if filled[u] as usize == count || has(&labels, &filled, u, source) {
                     continue;
                 }
-                heap.push(Tentative {
-                    distance: t.distance + p.distance(positions[u]),
-                    vertex: u as u32,
-                    source: t.source,
-                });
+                heap.push(distance + p.distance(positions[u]), (u as u32, source));
             }
         }
         Self {

@@ -25,6 +25,7 @@ mod operator;
 mod options;
 mod pattern;
 mod pcg;
+mod radix_heap;
 mod report;
 mod rigid;
 mod surface;
