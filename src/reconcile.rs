@@ -19,7 +19,7 @@
 //! every frame holds a value and a constant channel stays constant.
 
 use crate::compute::Backend;
-use crate::events::{Event, EventKind, EventList};
+use crate::events::{Event, EventList};
 use crate::mesh::{IndexedMesh, Mesh, MeshError};
 use crate::project::{Bvh, ProjectError, closest_points};
 use crate::topology::nearest::Survivors;
@@ -65,20 +65,19 @@ struct Component {
     diagonal: f32,
 }
 
-fn components(mesh: &IndexedMesh) -> Vec<Component> {
-    let (labels, count) = mesh.component_labels();
-    let topology = mesh.topology();
+/// The components of `mesh` and the component of each of its vertices.
+fn components(mesh: &IndexedMesh) -> (Vec<Component>, Vec<u32>) {
+    let (topology, labels) = mesh.topology_with_labels();
     let mut out: Vec<Component> = topology
         .components
         .iter()
         .map(|c| Component {
-            vertices: Vec::new(),
+            vertices: Vec::with_capacity(c.vertices),
             euler: c.euler,
             diagonal: 0.0,
         })
         .collect();
-    debug_assert_eq!(out.len(), count);
-    let mut bounds = vec![(Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)); count];
+    let mut bounds = vec![(Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)); out.len()];
     for (v, &label) in labels.iter().enumerate() {
         if let Some(c) = out.get_mut(label as usize) {
             c.vertices.push(v as u32);
@@ -90,7 +89,7 @@ fn components(mesh: &IndexedMesh) -> Vec<Component> {
     for (c, (lo, hi)) in out.iter_mut().zip(bounds) {
         c.diagonal = (hi - lo).length();
     }
-    out
+    (out, labels)
 }
 
 /// Makes `mesh`'s components agree with `target`'s where the grid of spacing `spacing` cannot
@@ -104,9 +103,8 @@ pub fn reconcile_components(
     spacing: f32,
 ) -> Result<(EventList, ReconcileCounts), ReconcileError> {
     let current = mesh.to_indexed();
-    let ours = components(&current);
-    let theirs = components(target);
-    let (target_labels, _) = target.component_labels();
+    let (ours, _) = components(&current);
+    let (theirs, target_labels) = components(target);
     let small = SMALL_CELLS * spacing;
 
     // Each of our components votes, vertex by vertex, for the target component within a cell; a
@@ -225,16 +223,10 @@ pub fn reconcile_components(
     for (v, _) in keep.iter().enumerate().filter(|(_, k)| !**k) {
         let id = ids.get(v).copied().unwrap_or(v as u64);
         let source = survivor_id(current.positions[v]);
-        events.push(match source {
-            Some(s) => Event::patch_deleted(id, vec![(s, 1.0)]),
-            None => Event {
-                kind: EventKind::PatchDeleted,
-                inputs: vec![id],
-                outputs: Vec::new(),
-                forward: Vec::new(),
-                backward: Vec::new(),
-            },
-        });
+        events.push(Event::patch_deleted(
+            id,
+            source.map(|s| vec![(s, 1.0)]).unwrap_or_default(),
+        ));
     }
     let mut next_id = mesh.next_id();
     let mut target_index = vec![u32::MAX; target.positions.len()];
@@ -245,16 +237,10 @@ pub fn reconcile_components(
             target_index[v as usize] = positions.len() as u32;
             positions.push(p);
             new_ids.push(next_id);
-            events.push(match source {
-                Some(s) => Event::patch_created(next_id, vec![(s, 1.0)]),
-                None => Event {
-                    kind: EventKind::PatchCreated,
-                    inputs: Vec::new(),
-                    outputs: vec![next_id],
-                    forward: Vec::new(),
-                    backward: Vec::new(),
-                },
-            });
+            events.push(Event::patch_created(
+                next_id,
+                source.map(|s| vec![(s, 1.0)]).unwrap_or_default(),
+            ));
             next_id += 1;
         }
     }

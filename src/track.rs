@@ -251,12 +251,14 @@ impl Tracker {
         let mut events = EventList::new();
 
         let t = Instant::now();
+        // The target's tree serves the projection baseline, reconciliation and the residual.
+        let bvh = Bvh::build(target).map_err(|source| TrackError::Project { frame, source })?;
         let converged = match self.options.motion {
             Motion::Register => register(backend, &mut self.mesh, target, &self.options.register)
                 .map_err(|source| TrackError::Register { frame, source })?
                 .converged(),
             Motion::Project => {
-                self.project_onto(backend, target)
+                self.project_onto(backend, &bvh)
                     .map_err(|source| TrackError::Project { frame, source })?;
                 true
             }
@@ -291,7 +293,6 @@ impl Tracker {
         events.extend(constrained.events);
 
         let t = Instant::now();
-        let bvh = Bvh::build(target).map_err(|source| TrackError::Project { frame, source })?;
         let (reconciled, counts) =
             reconcile_components(backend, &mut self.mesh, target, &bvh, self.grid.spacing())
                 .map_err(|source| TrackError::Reconcile { frame, source })?;
@@ -320,16 +321,11 @@ impl Tracker {
         Ok((events, log))
     }
 
-    /// Moves every vertex to its closest point on `target` ([`Motion::Project`]).
-    fn project_onto(
-        &mut self,
-        backend: &Backend,
-        target: &IndexedMesh,
-    ) -> Result<(), ProjectError> {
-        let bvh = Bvh::build(target)?;
+    /// Moves every vertex to its closest point on the target whose tree is `bvh` ([`Motion::Project`]).
+    fn project_onto(&mut self, backend: &Backend, bvh: &Bvh) -> Result<(), ProjectError> {
         let slots: Vec<_> = self.mesh.vertices().collect();
         let points: Vec<glam::Vec3> = slots.iter().map(|&v| self.mesh.position(v)).collect();
-        let nearest = closest_points(backend, &bvh, &points, f32::INFINITY)?;
+        let nearest = closest_points(backend, bvh, &points, f32::INFINITY)?;
         for (&v, hit) in slots.iter().zip(&nearest) {
             if hit.hit_triangle().is_some() {
                 self.mesh.set_position(v, hit.point);

@@ -2,23 +2,15 @@
 //! deleted, one only the target has is copied in, and data carried through the events stays
 //! consistent (a constant channel stays constant both ways).
 
+pub mod grid_support;
+
 use glam::Vec3;
+use grid_support::union;
 use surftrack::compute::Backend;
 use surftrack::events::{VertexValues, backward, forward};
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::project::Bvh;
 use surftrack::reconcile::{ReconcileCounts, reconcile_components};
-
-fn union(parts: &[IndexedMesh]) -> IndexedMesh {
-    let mut out = IndexedMesh::new(Vec::new(), Vec::new());
-    for p in parts {
-        let base = out.positions.len() as u32;
-        out.positions.extend(&p.positions);
-        out.triangles
-            .extend(p.triangles.iter().map(|t| t.map(|v| v + base)));
-    }
-    out
-}
 
 fn constant(ids: &[u64]) -> VertexValues {
     VertexValues::from_parts(1, ids, &vec![0.25; ids.len()]).unwrap()

@@ -70,7 +70,8 @@ impl Event {
     }
 
     /// A vertex created in a patch of new geometry: `(boundary, boundary ∪ {new}, new := Σ w·b, null)`,
-    /// the weights being the breadth-first boundary averages of §4.4.
+    /// the weights being the breadth-first boundary averages of §4.4. An empty `boundary` (nothing
+    /// survives to take data from) gives `(∅, {new}, null, null)`.
     pub fn patch_created(created: u64, boundary: Vec<(u64, f32)>) -> Self {
         let inputs: Vec<u64> = boundary.iter().map(|&(id, _)| id).collect();
         let mut outputs = inputs.clone();
@@ -79,12 +80,13 @@ impl Event {
             kind: EventKind::PatchCreated,
             inputs,
             outputs,
-            forward: vec![Assignment::new(created, boundary)],
+            forward: rule(created, boundary),
             backward: Vec::new(),
         }
     }
 
-    /// A vertex deleted in a merged patch: `(boundary ∪ {old}, boundary, null, old := Σ w·b)`.
+    /// A vertex deleted in a merged patch: `(boundary ∪ {old}, boundary, null, old := Σ w·b)`. An
+    /// empty `boundary` gives `({old}, ∅, null, null)`.
     pub fn patch_deleted(deleted: u64, boundary: Vec<(u64, f32)>) -> Self {
         let outputs: Vec<u64> = boundary.iter().map(|&(id, _)| id).collect();
         let mut inputs = outputs.clone();
@@ -94,7 +96,7 @@ impl Event {
             inputs,
             outputs,
             forward: Vec::new(),
-            backward: vec![Assignment::new(deleted, boundary)],
+            backward: rule(deleted, boundary),
         }
     }
 
@@ -154,5 +156,14 @@ impl Event {
             }
         }
         Ok(())
+    }
+}
+
+/// `target := Σ w·source` over `terms`, or no rule (the paper's null) when there are no terms.
+fn rule(target: u64, terms: Vec<(u64, f32)>) -> Vec<Assignment> {
+    if terms.is_empty() {
+        Vec::new()
+    } else {
+        vec![Assignment::new(target, terms)]
     }
 }

@@ -37,48 +37,38 @@ impl IndexedMesh {
     /// Connected components (through shared triangle edges) with their V, E, F, χ and genus.
     /// Vertices referenced by no triangle are ignored.
     pub fn topology(&self) -> Topology {
-        let n = self.positions.len();
-        let mut parent: Vec<u32> = (0..n as u32).collect();
-        for tri in &self.triangles {
-            union(&mut parent, tri[0], tri[1]);
-            union(&mut parent, tri[1], tri[2]);
-        }
-        let mut used = vec![false; n];
-        for tri in &self.triangles {
-            for &v in tri {
-                used[v as usize] = true;
-            }
-        }
-        let mut slot = vec![usize::MAX; n];
-        let mut components: Vec<ComponentTopology> = Vec::new();
-        for (v, _) in used.iter().enumerate().filter(|(_, u)| **u) {
-            let root = find(&mut parent, v as u32) as usize;
-            if slot[root] == usize::MAX {
-                slot[root] = components.len();
-                components.push(ComponentTopology {
-                    vertices: 0,
-                    edges: 0,
-                    faces: 0,
-                    euler: 0,
-                    genus: 0,
-                });
-            }
-            components[slot[root]].vertices += 1;
+        self.topology_with_labels().0
+    }
+
+    /// [`IndexedMesh::topology`] and the component of every vertex, as
+    /// [`IndexedMesh::component_labels`] numbers them, from one labelling.
+    pub fn topology_with_labels(&self) -> (Topology, Vec<u32>) {
+        let (labels, count) = self.component_labels();
+        let mut components = vec![
+            ComponentTopology {
+                vertices: 0,
+                edges: 0,
+                faces: 0,
+                euler: 0,
+                genus: 0,
+            };
+            count
+        ];
+        for &label in labels.iter().filter(|&&l| l != u32::MAX) {
+            components[label as usize].vertices += 1;
         }
         for tri in &self.triangles {
-            let root = find(&mut parent, tri[0]) as usize;
-            components[slot[root]].faces += 1;
+            components[labels[tri[0] as usize] as usize].faces += 1;
         }
         let edges = self.sorted_edges();
         for group in edges.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
-            let root = find(&mut parent, group[0].0) as usize;
-            components[slot[root]].edges += 1;
+            components[labels[group[0].0 as usize] as usize].edges += 1;
         }
         for c in &mut components {
             c.euler = c.vertices as i64 - c.edges as i64 + c.faces as i64;
             c.genus = (2 - c.euler) / 2;
         }
-        Topology { components }
+        (Topology { components }, labels)
     }
 
     /// The component of every vertex, numbered as in [`IndexedMesh::topology`] (by smallest vertex

@@ -21,7 +21,7 @@ use super::build::Built;
 use super::mesh_grid::MeshGrid;
 use super::nearest::Survivors;
 use super::points::Point;
-use crate::events::{Event, EventKind, EventList};
+use crate::events::{Event, EventList};
 use crate::mesh::Attribute;
 use rustc_hash::{FxHashMap, FxHashSet};
 
@@ -187,11 +187,12 @@ pub(crate) fn record(
     );
     let reached: FxHashSet<u32> = order.iter().copied().collect();
     for &d in deleted.iter().filter(|d| !reached.contains(d)) {
-        events.push(unreached_deleted(
+        let source = survivors.nearest(input.positions[d as usize]);
+        events.push(Event::patch_deleted(
             input_ids[d as usize],
-            survivors
-                .nearest(input.positions[d as usize])
-                .map(|i| ids[i as usize]),
+            source
+                .map(|i| vec![(ids[i as usize], 1.0)])
+                .unwrap_or_default(),
         ));
     }
     for (d, terms) in order.iter().zip(&rules).rev() {
@@ -256,9 +257,11 @@ pub(crate) fn record(
                 }
             }
         }
-        events.push(unreached_created(
+        events.push(Event::patch_created(
             ids[v as usize],
-            source.map(|s| ids[s as usize]),
+            source
+                .map(|s| vec![(ids[s as usize], 1.0)])
+                .unwrap_or_default(),
         ));
     }
     Recorded {
@@ -268,34 +271,6 @@ pub(crate) fn record(
         cut,
         patch: fill.len(),
         deleted: deleted.len(),
-    }
-}
-
-/// A deleted vertex no march reached: going backward it copies `source`, the nearest survivor.
-fn unreached_deleted(deleted: u64, source: Option<u64>) -> Event {
-    match source {
-        Some(s) => Event::patch_deleted(deleted, vec![(s, 1.0)]),
-        None => Event {
-            kind: EventKind::PatchDeleted,
-            inputs: vec![deleted],
-            outputs: Vec::new(),
-            forward: Vec::new(),
-            backward: Vec::new(),
-        },
-    }
-}
-
-/// A new vertex no march reached: going forward it copies `source`, the nearest survivor.
-fn unreached_created(created: u64, source: Option<u64>) -> Event {
-    match source {
-        Some(s) => Event::patch_created(created, vec![(s, 1.0)]),
-        None => Event {
-            kind: EventKind::PatchCreated,
-            inputs: Vec::new(),
-            outputs: vec![created],
-            forward: Vec::new(),
-            backward: Vec::new(),
-        },
     }
 }
 
