@@ -1,7 +1,8 @@
 // Narrow-band distance: the nearest triangle of each candidate corner, within the band.
-// CPU twin: src/grid/distance.rs (`tile_nearest`, the body of `main`) with
-// src/grid/triangle_tree.rs (`gather`, `nearest`, `point_triangle_distance_squared`), line for
-// line. Prepended: shared/distance.wgsl.
+// CPU twin: src/grid/distance_cpu.rs (`tile_nearest`, the body of `main`) with
+// src/grid/triangle_tree.rs (`gather`, `nearest`, `point_triangle_distance_squared`). The twin
+// follows the same steps but prunes with tighter bounds computed eight triangles at a time, so
+// both find the same minimum. Prepended: shared/distance.wgsl.
 //
 // One invocation per tile: chunks of candidate corners along x whose triangles are gathered once
 // (src/grid/distance_gpu.rs makes each chunk a tile of its own, see there why). The triangles
@@ -109,7 +110,8 @@ fn triangle_distance_squared(slot: u32, corner: vec3<i32>) -> f32 {
 
 // A lower bound of the squared distance from `corner` (at `p` from the tree's base) to the
 // triangle in `slot`: the larger of its box's and its plane's, the plane's reduced by PLANE_SLACK
-// for rounding. src/grid/distance.rs caches the same two terms per tile and chunk.
+// for rounding. src/grid/distance_cpu.rs caches these terms per tile and chunk, with a disk
+// bound besides.
 fn lower_bound(slot: u32, corner: vec3<i32>, p: vec3<f32>) -> f32 {
     let to_box = box_distance_squared(vec(boxes[slot].min), vec(boxes[slot].max), p);
     let t = triangles[slot];

@@ -64,5 +64,5 @@ struct BandTile {
 // Most triangles gathered for one tile (`GATHER_CAPACITY` in src/grid/distance.rs).
 const GATHER_CAPACITY: u32 = 256u;
 
-// Allowance for rounding in the plane lower bound, in cells (`PLANE_SLACK` in src/grid/distance.rs).
+// Allowance for rounding in the plane lower bound, in cells (`PLANE_SLACK` in src/grid/distance_cpu.rs).
 const PLANE_SLACK: f32 = 1e-4;

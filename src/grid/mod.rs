@@ -16,6 +16,7 @@ pub use scalar_grid::{GridError, MAX_CORNERS, ScalarGrid};
 mod band;
 mod crossing;
 mod distance;
+mod distance_cpu;
 mod distance_gpu;
 mod lattice;
 mod overlap;

@@ -125,6 +125,25 @@ pub struct TriangleTree {
     nodes: Vec<TreeNode>,
     triangles: Vec<TreeTriangle>,
     boxes: Vec<TriangleBox>,
+    disks: Vec<[f32; 4]>,
+}
+
+/// The centroid of `t` (cells from its base) and the largest distance from it to a corner,
+/// enlarged to cover the rounding of both in f32: every point of the triangle lies within the
+/// radius of the centroid.
+fn disk(t: &TreeTriangle) -> [f32; 4] {
+    let centroid: [f32; 3] = std::array::from_fn(|k| (t.a[k] + t.b[k] + t.c[k]) / 3.0);
+    let reach = |v: [f32; 3]| {
+        let d: [f32; 3] = std::array::from_fn(|k| v[k] - centroid[k]);
+        (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+    };
+    let radius = reach(t.a).max(reach(t.b)).max(reach(t.c));
+    [
+        centroid[0],
+        centroid[1],
+        centroid[2],
+        radius * (1.0 + 1e-5) + 1e-5,
+    ]
 }
 
 /// One triangle while building: its index and the centre of its box.
@@ -178,7 +197,7 @@ impl TriangleTree {
         if !items.is_empty() {
             build_node(&mut items, &boxes_by_id, &mut nodes, 0, 0);
         }
-        let triangles = items
+        let triangles: Vec<TreeTriangle> = items
             .par_iter()
             .map(|item| tree_triangle(mesh, item.id))
             .collect();
@@ -186,11 +205,13 @@ impl TriangleTree {
             .iter()
             .map(|item| boxes_by_id[item.id as usize])
             .collect();
+        let disks = triangles.par_iter().map(disk).collect();
         Self {
             base,
             nodes,
             triangles,
             boxes,
+            disks,
         }
     }
 
@@ -208,6 +229,12 @@ impl TriangleTree {
 
     pub fn boxes(&self) -> &[TriangleBox] {
         &self.boxes
+    }
+
+    /// Per triangle slot, a disk in its plane that holds it: the centroid (cells from the
+    /// triangle's `base`) and a radius rounded up.
+    pub fn disks(&self) -> &[[f32; 4]] {
+        &self.disks
     }
 
     /// Cells from the tree's base to `corner`, exact.

@@ -1,0 +1,394 @@
+//! CPU twin of `kernels/distance.wgsl`: the nearest triangle within the band of every candidate
+//! corner (paper §4.3, the magnitude of `Φ`).
+//!
+//! Both twins gather the triangles near a tile once and then, corner by corner, test the previous
+//! corner's nearest triangle first and afterwards only the triangles whose lower bound is below
+//! the best distance so far. Pruning by lower bounds cannot change the minimum found, so the twins
+//! agree up to rounding whatever bounds each uses. The GPU keeps one chunk per tile and recomputes
+//! the box and plane bounds ([`super::distance_gpu`] says why); here a tile holds up to
+//! [`TILE_ROWS`](super::distance::TILE_ROWS)² chunks sharing one gather, and the bounds are tighter (a disk around each
+//! triangle) and computed [`SKIP_BLOCK`] triangles at a time as vector instructions.
+
+use rayon::prelude::*;
+use wide::f32x8;
+
+use super::distance::{BandChunk, BandTile, GATHER_CAPACITY, Nearest};
+use super::triangle_tree::TriangleTree;
+
+/// Triangles whose bounds are computed and tested together: the lists are kept in blocks of this
+/// many, padded with entries whose bound is infinite, so each operation of a bound runs on a whole
+/// block (one vector instruction) and a block whose least bound reaches the best distance so far
+/// is skipped with one comparison.
+const SKIP_BLOCK: usize = 8;
+
+/// The smaller of two numbers, as one vector instruction (no NaN can occur here).
+fn min(a: f32, b: f32) -> f32 {
+    if a < b { a } else { b }
+}
+
+/// Allowance for rounding in the plane distance, in cells: the bounds only prune, so making them
+/// smaller can cost time but never the nearest triangle. Mirrors `PLANE_SLACK` in
+/// `kernels/shared/distance.wgsl`.
+const PLANE_SLACK: f32 = 1e-4;
+
+/// Allowance for rounding in the squared in-plane distance of the disk bound, in squared cells:
+/// its terms are squared offsets of a few cells, each rounded a few times in f32 (about 1e-5), so
+/// this keeps the bound below the true distance with a wide margin.
+const LATERAL_SLACK: f32 = 1e-3;
+
+/// [`SKIP_BLOCK`] gathered triangles of a tile, one array per quantity: their boxes, their
+/// planes' signed distance at the tile's lowest corner and their normals, and the disks that hold
+/// them (centroid from the tile's lowest corner, radius). Unused entries have empty boxes.
+#[derive(Debug, Clone, Copy)]
+struct GatherBlock {
+    slot: [u32; SKIP_BLOCK],
+    min: [[f32; SKIP_BLOCK]; 3],
+    max: [[f32; SKIP_BLOCK]; 3],
+    plane: [f32; SKIP_BLOCK],
+    normal: [[f32; SKIP_BLOCK]; 3],
+    centre: [[f32; SKIP_BLOCK]; 3],
+    radius: [f32; SKIP_BLOCK],
+}
+
+impl GatherBlock {
+    const EMPTY: Self = Self {
+        slot: [Nearest::NONE; SKIP_BLOCK],
+        min: [[f32::INFINITY; SKIP_BLOCK]; 3],
+        max: [[f32::NEG_INFINITY; SKIP_BLOCK]; 3],
+        plane: [0.0; SKIP_BLOCK],
+        normal: [[0.0; SKIP_BLOCK]; 3],
+        centre: [[0.0; SKIP_BLOCK]; 3],
+        radius: [0.0; SKIP_BLOCK],
+    };
+}
+
+/// [`SKIP_BLOCK`] triangles near one chunk's segment, one array per quantity so that each
+/// operation of [`NearBlock::bounds`] is one vector instruction: the squared distance from the
+/// chunk's line to the box across y and z, the box along x (cells from the tree's base), the
+/// plane's signed distance at the chunk's first corner and the normal's x component, the squared
+/// distance from that corner to the centroid and the centroid's offset along x from it, and the
+/// disk's radius. Unused entries have an infinite bound.
+#[derive(Debug, Clone, Copy)]
+struct NearBlock {
+    across: [f32; SKIP_BLOCK],
+    box_lo: [f32; SKIP_BLOCK],
+    box_hi: [f32; SKIP_BLOCK],
+    plane: [f32; SKIP_BLOCK],
+    normal_x: [f32; SKIP_BLOCK],
+    centre: [f32; SKIP_BLOCK],
+    centre_x: [f32; SKIP_BLOCK],
+    radius: [f32; SKIP_BLOCK],
+}
+
+impl NearBlock {
+    const EMPTY: Self = Self {
+        across: [f32::INFINITY; SKIP_BLOCK],
+        box_lo: [0.0; SKIP_BLOCK],
+        box_hi: [0.0; SKIP_BLOCK],
+        plane: [0.0; SKIP_BLOCK],
+        normal_x: [0.0; SKIP_BLOCK],
+        centre: [0.0; SKIP_BLOCK],
+        centre_x: [0.0; SKIP_BLOCK],
+        radius: [0.0; SKIP_BLOCK],
+    };
+
+    /// Lower bounds of the squared distance from the corner `step` cells along x from the chunk's
+    /// first corner (at `x` cells from the tree's base) to each triangle of the block.
+    ///
+    /// Each bound is the larger of two: the box's, and the disk's. A triangle lies in its plane
+    /// within `radius` of its centroid, so its distance is at least
+    /// `sqrt(h² + max(l − radius, 0)²)` for the plane distance `h` and the distance `l` within
+    /// the plane from the corner's projection to the centroid (for a degenerate triangle, whose
+    /// normal is zero, `h` is 0 and this is the bounding sphere's bound). On a nearly flat surface
+    /// the plane distance alone ties for every triangle below the corner; the disk bound leaves
+    /// only the few whose disks hold the corner's projection.
+    fn bounds(&self, x: f32, step: f32) -> f32x8 {
+        let v = f32x8::from;
+        let zero = f32x8::ZERO;
+        let x = f32x8::splat(x);
+        let step = f32x8::splat(step);
+        let slack = f32x8::splat(PLANE_SLACK);
+        let gap = (v(self.box_lo) - x)
+            .fast_max(x - v(self.box_hi))
+            .fast_max(zero);
+        let to_box = v(self.across) + gap * gap;
+        let h = (v(self.plane) + v(self.normal_x) * step).abs();
+        let below = (h - slack).fast_max(zero);
+        let above = h + slack;
+        let centre = v(self.centre) + step * (step - f32x8::splat(2.0) * v(self.centre_x));
+        let lateral = (centre - above * above - f32x8::splat(LATERAL_SLACK))
+            .fast_max(zero)
+            .sqrt()
+            - v(self.radius);
+        let lateral = lateral.fast_max(zero);
+        to_box.fast_max(below * below + lateral * lateral)
+    }
+}
+
+/// The least of a block's bounds.
+fn least_of(b: f32x8) -> f32 {
+    let b = b.to_array();
+    let four: [f32; 4] = std::array::from_fn(|k| min(b[k], b[k + 4]));
+    min(min(four[0], four[2]), min(four[1], four[3]))
+}
+
+/// What one worker keeps between tiles: the tile's gathered triangles, and per chunk the near
+/// ones with their bounds at the current corner.
+#[derive(Debug, Default)]
+struct Scratch {
+    slots: Vec<u32>,
+    gathered: Vec<GatherBlock>,
+    near: Vec<u32>,
+    blocks: Vec<NearBlock>,
+    bounds: Vec<f32x8>,
+    least: Vec<f32>,
+}
+
+/// One closure call per tile; the results are then placed at their chunks' output offsets.
+pub(crate) fn distance_cpu(
+    tree: &TriangleTree,
+    chunks: &[BandChunk],
+    tiles: &[BandTile],
+    bound: f32,
+) -> Vec<Nearest> {
+    let per_tile: Vec<Vec<Nearest>> = tiles
+        .par_iter()
+        .map_init(Scratch::default, |scratch, tile| {
+            let own = &chunks[tile.first as usize..(tile.first + tile.count) as usize];
+            tile_nearest(tree, own, bound, scratch)
+        })
+        .collect();
+    let total = chunks.iter().map(|c| c.len as usize).sum();
+    let mut nearest = vec![
+        Nearest {
+            distance_squared: bound,
+            slot: Nearest::NONE,
+        };
+        total
+    ];
+    for (tile, results) in tiles.iter().zip(per_tile) {
+        let own = &chunks[tile.first as usize..(tile.first + tile.count) as usize];
+        let mut results = results.into_iter();
+        for chunk in own {
+            let out = chunk.out as usize;
+            for (slot, r) in nearest[out..out + chunk.len as usize]
+                .iter_mut()
+                .zip(&mut results)
+            {
+                *slot = r;
+            }
+        }
+    }
+    nearest
+}
+
+/// Fills `g.gathered` with the triangles of `g.slots`, relative to the tile's lowest corner.
+fn fill_gathered(tree: &TriangleTree, first_corner: [i32; 3], g: &mut Scratch) {
+    g.gathered.clear();
+    for (n, &slot) in g.slots.iter().enumerate() {
+        let j = n % SKIP_BLOCK;
+        if j == 0 {
+            g.gathered.push(GatherBlock::EMPTY);
+        }
+        let Some(block) = g.gathered.last_mut() else {
+            continue;
+        };
+        let b = &tree.boxes()[slot as usize];
+        let t = &tree.triangles()[slot as usize];
+        let disk = &tree.disks()[slot as usize];
+        let p: [f32; 3] = std::array::from_fn(|k| (first_corner[k] - t.base[k]) as f32);
+        block.slot[j] = slot;
+        for a in 0..3 {
+            block.min[a][j] = b.min[a];
+            block.max[a][j] = b.max[a];
+            block.normal[a][j] = t.normal[a];
+            block.centre[a][j] = disk[a] - p[a];
+        }
+        block.plane[j] = t.normal[0] * p[0] + t.normal[1] * p[1] + t.normal[2] * p[2] - t.offset;
+        block.radius[j] = disk[3];
+    }
+}
+
+/// Fills `g.near` and `g.blocks` with the gathered triangles whose boxes lie within the band of
+/// some corner of chunk `c`: a box farther than that from all of the chunk's segment holds no
+/// corner's nearest triangle. The test runs on whole blocks; only the triangles that pass are
+/// copied.
+fn fill_near(
+    tree: &TriangleTree,
+    c: &BandChunk,
+    first_corner: [i32; 3],
+    bound: f32,
+    g: &mut Scratch,
+) {
+    let start = tree.local(c.first);
+    let offset: [f32; 3] = std::array::from_fn(|k| (c.first[k] - first_corner[k]) as f32);
+    let last_x = start[0] + (c.len - 1) as f32;
+    g.near.clear();
+    g.blocks.clear();
+    let v = f32x8::from;
+    let zero = f32x8::ZERO;
+    let at = |a: usize| f32x8::splat(start[a]);
+    let shift = |a: usize| f32x8::splat(offset[a]);
+    for block in &g.gathered {
+        let gap = |a: usize| {
+            (v(block.min[a]) - at(a))
+                .fast_max(at(a) - v(block.max[a]))
+                .fast_max(zero)
+        };
+        let (gy, gz) = (gap(1), gap(2));
+        let across = gy * gy + gz * gz;
+        let along = (v(block.min[0]) - f32x8::splat(last_x))
+            .fast_max(at(0) - v(block.max[0]))
+            .fast_max(zero);
+        let mut keep = (across + along * along)
+            .simd_lt(f32x8::splat(bound))
+            .to_bitmask();
+        if keep == 0 {
+            continue;
+        }
+        let plane = v(block.plane)
+            + v(block.normal[0]) * shift(0)
+            + v(block.normal[1]) * shift(1)
+            + v(block.normal[2]) * shift(2);
+        let to: [f32x8; 3] = std::array::from_fn(|a| v(block.centre[a]) - shift(a));
+        let centre = to[0] * to[0] + to[1] * to[1] + to[2] * to[2];
+        let (across, plane, centre, centre_x) = (
+            across.to_array(),
+            plane.to_array(),
+            centre.to_array(),
+            to[0].to_array(),
+        );
+        while keep != 0 {
+            let k = keep.trailing_zeros() as usize;
+            keep &= keep - 1;
+            let j = g.near.len() % SKIP_BLOCK;
+            if j == 0 {
+                g.blocks.push(NearBlock::EMPTY);
+            }
+            let Some(near) = g.blocks.last_mut() else {
+                continue;
+            };
+            near.across[j] = across[k];
+            near.box_lo[j] = block.min[0][k];
+            near.box_hi[j] = block.max[0][k];
+            near.plane[j] = plane[k];
+            near.normal_x[j] = block.normal[0][k];
+            near.centre[j] = centre[k];
+            near.centre_x[j] = centre_x[k];
+            near.radius[j] = block.radius[k];
+            g.near.push(block.slot[k]);
+        }
+    }
+}
+
+/// The nearest triangle within `bound` (squared cells) of each corner of the chunks of one tile,
+/// chunk after chunk.
+///
+/// The triangles whose boxes lie within the band of the tile's box are gathered once, and for
+/// each chunk those near its segment are kept. For each corner the bounds of all of them are
+/// computed; when none is below `bound` the corner lies outside the band. Otherwise the previous
+/// corner's nearest triangle (for a chunk's first corner, the one with the least bound) is tested
+/// first, which nearly always gives the final distance, and then only triangles whose bound is
+/// below the best so far. A tile near more than [`GATHER_CAPACITY`] triangles searches the tree
+/// once per corner instead (cheaper there than gathering chunk by chunk, measured).
+fn tile_nearest(
+    tree: &TriangleTree,
+    chunks: &[BandChunk],
+    bound: f32,
+    g: &mut Scratch,
+) -> Vec<Nearest> {
+    let mut out = Vec::with_capacity(chunks.iter().map(|c| c.len as usize).sum());
+    let mut first_corner = [i32::MAX; 3];
+    let mut last_corner = [i32::MIN; 3];
+    for c in chunks {
+        for a in 0..3 {
+            first_corner[a] = first_corner[a].min(c.first[a]);
+            last_corner[a] =
+                last_corner[a].max(c.first[a] + if a == 0 { c.len as i32 - 1 } else { 0 });
+        }
+    }
+    let lo = tree.local(first_corner);
+    let hi = tree.local(last_corner);
+    g.slots.clear();
+    if !tree.gather(lo, hi, bound, GATHER_CAPACITY, &mut g.slots) {
+        for c in chunks {
+            let mut hint = Nearest::NONE;
+            for i in 0..c.len as i32 {
+                let corner = [c.first[0] + i, c.first[1], c.first[2]];
+                // The previous corner's nearest triangle bounds the search from the start.
+                let seed = match tree.triangles().get(hint as usize) {
+                    Some(t) => t.distance_squared(corner).min(bound),
+                    None => bound,
+                };
+                let found = if seed < bound { hint } else { Nearest::NONE };
+                let (distance_squared, slot) = tree.nearest(corner, seed, found);
+                hint = slot;
+                out.push(Nearest {
+                    distance_squared,
+                    slot,
+                });
+            }
+        }
+        return out;
+    }
+    fill_gathered(tree, first_corner, g);
+    for c in chunks {
+        fill_near(tree, c, first_corner, bound, g);
+        let start_x = tree.local(c.first)[0];
+        let blocks = g.blocks.len();
+        g.bounds.resize(blocks, f32x8::ZERO);
+        g.least.resize(blocks, 0.0);
+        let mut hint = None;
+        for i in 0..c.len as i32 {
+            let step = i as f32;
+            let corner = [c.first[0] + i, c.first[1], c.first[2]];
+            let mut overall = f32::INFINITY;
+            for ((block, bounds), least) in g.blocks.iter().zip(&mut g.bounds).zip(&mut g.least) {
+                *bounds = block.bounds(start_x + step, step);
+                *least = least_of(*bounds);
+                overall = min(overall, *least);
+            }
+            let mut best = bound;
+            let mut found = None;
+            if overall < best {
+                // The previous corner's nearest triangle, or else the one with the least bound.
+                let first = hint.unwrap_or_else(|| {
+                    g.bounds
+                        .iter()
+                        .flat_map(|b| b.to_array())
+                        .position(|lower| lower == overall)
+                        .unwrap_or(0)
+                });
+                if g.bounds[first / SKIP_BLOCK].to_array()[first % SKIP_BLOCK] < best {
+                    let d = tree.triangles()[g.near[first] as usize].distance_squared(corner);
+                    if d < best {
+                        best = d;
+                        found = Some(first);
+                    }
+                }
+                for (b, (bounds, &least)) in g.bounds.iter().zip(&g.least).enumerate() {
+                    if least >= best {
+                        continue;
+                    }
+                    let lower = bounds.to_array();
+                    for (j, &lower) in lower.iter().enumerate() {
+                        let k = b * SKIP_BLOCK + j;
+                        if lower < best && k != first {
+                            let d = tree.triangles()[g.near[k] as usize].distance_squared(corner);
+                            if d < best {
+                                best = d;
+                                found = Some(k);
+                            }
+                        }
+                    }
+                }
+            }
+            hint = found;
+            out.push(Nearest {
+                distance_squared: best,
+                slot: found.map_or(Nearest::NONE, |k| g.near[k]),
+            });
+        }
+    }
+    out
+}
