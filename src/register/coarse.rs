@@ -296,7 +296,8 @@ impl<'a> CoarseSolver<'a> {
     }
 
     /// The step `δ` of `(JᵀJ + λ I) δ = −Jᵀr` at the current state; returns the conjugate-gradient
-    /// iterations it took (0 when the factor is of `JᵀJ` itself).
+    /// iterations it took (about one when the factor is of `JᵀJ` itself: it is a single-precision
+    /// factor, see `cholesky`).
     pub fn solve(&mut self) -> Result<usize, RegisterError> {
         let operator = GaussNewton {
             model: &self.model,
