@@ -1,8 +1,17 @@
 //! faer's sparse Cholesky factorization with the symbolic analysis (ordering, elimination tree,
 //! supernodes) done once per pattern and only the numeric factorization repeated each Gauss-Newton
 //! iteration, into buffers allocated once.
+//!
+//! The factor only ever preconditions conjugate gradients on the exact Gauss-Newton system (see
+//! `coarse`), so it is computed in single precision: that halves the memory the factorization and
+//! every triangular solve stream through and doubles the SIMD width, which is what their time is
+//! made of (issue 5, bar 4), while the step itself is still solved in `f64` to the conjugate-gradient
+//! tolerance. The matrix is first scaled to unit diagonal (Jacobi), so `f32`'s range and precision
+//! see the matrix's conditioning rather than the spread of its weights (`α_reg` up to 10⁴ × `α_fit`).
+//! Should a pivot still vanish in `f32`, the same scaled matrix is factored in `f64`; only when that
+//! fails too is the non-positive pivot reported (the caller then adds damping).
 
-use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltError;
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
@@ -14,14 +23,27 @@ use faer::{Conj, MatMut, Par, Side};
 use super::RegisterError;
 use super::pattern::Pattern;
 
+/// Which factor the last successful factorization produced.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Precision {
+    Single,
+    Double,
+}
+
 /// A reusable factorization of matrices with one fixed pattern.
 pub struct Cholesky {
     symbolic: SymbolicCholesky<u32>,
-    factor: Vec<f64>,
+    /// `1/√h_ii`: the factor is of `S H S`.
+    scaling: Vec<f64>,
+    scaled: Vec<f32>,
+    single: Vec<f32>,
+    /// The `f64` fallback, allocated on first use.
+    double: Vec<f64>,
+    rhs: Vec<f32>,
     factor_scratch: MemBuffer,
     solve_scratch: MemBuffer,
     par: Par,
-    factored: bool,
+    factored: Option<Precision>,
 }
 
 fn out_of_memory(what: &str) -> RegisterError {
@@ -43,20 +65,28 @@ impl Cholesky {
             CholeskySymbolicParams::default(),
         )
         .map_err(|e| RegisterError::Factorization(format!("symbolic analysis: {e:?}")))?;
-        let factor_scratch = MemBuffer::try_new(
+        let factor_scratch = MemBuffer::try_new(StackReq::or(
+            symbolic.factorize_numeric_llt_scratch::<f32>(par, Default::default()),
             symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
-        )
+        ))
         .map_err(|_| out_of_memory("factorization workspace"))?;
-        let solve_scratch = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(1, par))
-            .map_err(|_| out_of_memory("solve workspace"))?;
-        let factor = vec![0.0; symbolic.len_val()];
+        let solve_scratch = MemBuffer::try_new(StackReq::or(
+            symbolic.solve_in_place_scratch::<f32>(1, par),
+            symbolic.solve_in_place_scratch::<f64>(1, par),
+        ))
+        .map_err(|_| out_of_memory("solve workspace"))?;
+        let single = vec![0.0; symbolic.len_val()];
         Ok(Self {
             symbolic,
-            factor,
+            scaling: vec![1.0; n],
+            scaled: vec![0.0; pattern.row_idx.len()],
+            single,
+            double: Vec::new(),
+            rhs: vec![0.0; n],
             factor_scratch,
             solve_scratch,
             par,
-            factored: false,
+            factored: None,
         })
     }
 
@@ -69,38 +99,95 @@ impl Cholesky {
     /// layout). A non-positive pivot is returned as such so the caller can add damping.
     pub fn factor(&mut self, pattern: &Pattern, values: &[f64]) -> Result<(), LltError> {
         let n = pattern.dimension();
-        let matrix = SparseColMatRef::new(
-            SymbolicSparseColMatRef::new_checked(n, n, &pattern.col_ptr, None, &pattern.row_idx),
-            values,
+        self.factored = None;
+        for (c, s) in self.scaling.iter_mut().enumerate() {
+            let d = values[pattern.col_ptr[c + 1] as usize - 1];
+            if !(d > 0.0 && d.is_finite()) {
+                return Err(LltError::NonPositivePivot { index: c });
+            }
+            *s = 1.0 / d.sqrt();
+        }
+        let scaling = &self.scaling;
+        let scaled =
+            |k: usize, c: usize| values[k] * scaling[pattern.row_idx[k] as usize] * scaling[c];
+        for c in 0..n {
+            for k in pattern.col_ptr[c] as usize..pattern.col_ptr[c + 1] as usize {
+                self.scaled[k] = scaled(k, c) as f32;
+            }
+        }
+        let structure =
+            SymbolicSparseColMatRef::new_checked(n, n, &pattern.col_ptr, None, &pattern.row_idx);
+        let single = self.symbolic.factorize_numeric_llt(
+            &mut self.single,
+            SparseColMatRef::new(structure, &self.scaled),
+            Side::Upper,
+            Default::default(),
+            self.par,
+            MemStack::new(&mut self.factor_scratch),
+            Default::default(),
         );
-        self.factored = false;
+        if single.is_ok() {
+            self.factored = Some(Precision::Single);
+            return Ok(());
+        }
+        let wide: Vec<f64> = (0..n)
+            .flat_map(|c| {
+                (pattern.col_ptr[c] as usize..pattern.col_ptr[c + 1] as usize).map(move |k| (k, c))
+            })
+            .map(|(k, c)| scaled(k, c))
+            .collect();
+        self.double.resize(self.symbolic.len_val(), 0.0);
         self.symbolic.factorize_numeric_llt(
-            &mut self.factor,
-            matrix,
+            &mut self.double,
+            SparseColMatRef::new(structure, &wide),
             Side::Upper,
             Default::default(),
             self.par,
             MemStack::new(&mut self.factor_scratch),
             Default::default(),
         )?;
-        self.factored = true;
+        self.factored = Some(Precision::Double);
         Ok(())
     }
 
     /// Solves `H x = rhs` in place with the last successful factorization.
     pub fn solve(&mut self, rhs: &mut [f64]) -> Result<(), RegisterError> {
-        if !self.factored || rhs.len() != self.symbolic.nrows() {
-            return Err(RegisterError::Factorization(
-                "solve without a matching factorization".into(),
-            ));
-        }
         let n = rhs.len();
-        LltRef::new(&self.symbolic, &self.factor).solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(rhs, n, 1),
-            self.par,
-            MemStack::new(&mut self.solve_scratch),
-        );
+        let precision = match self.factored {
+            Some(precision) if n == self.symbolic.nrows() => precision,
+            _ => {
+                return Err(RegisterError::Factorization(
+                    "solve without a matching factorization".into(),
+                ));
+            }
+        };
+        let stack = MemStack::new(&mut self.solve_scratch);
+        match precision {
+            Precision::Single => {
+                for ((r, s), x) in self.rhs.iter_mut().zip(&self.scaling).zip(rhs.iter()) {
+                    *r = (x * s) as f32;
+                }
+                LltRef::new(&self.symbolic, &self.single).solve_in_place_with_conj(
+                    Conj::No,
+                    MatMut::from_column_major_slice_mut(&mut self.rhs, n, 1),
+                    self.par,
+                    stack,
+                );
+                for ((x, s), r) in rhs.iter_mut().zip(&self.scaling).zip(&self.rhs) {
+                    *x = f64::from(*r) * s;
+                }
+            }
+            Precision::Double => {
+                rhs.iter_mut().zip(&self.scaling).for_each(|(x, s)| *x *= s);
+                LltRef::new(&self.symbolic, &self.double).solve_in_place_with_conj(
+                    Conj::No,
+                    MatMut::from_column_major_slice_mut(rhs, n, 1),
+                    self.par,
+                    stack,
+                );
+                rhs.iter_mut().zip(&self.scaling).for_each(|(x, s)| *x *= s);
+            }
+        }
         Ok(())
     }
 }

@@ -75,8 +75,10 @@ pub fn fine(
 struct System<'a> {
     surface: &'a Surface,
     start: &'a [DVec3],
-    /// `ê` for every adjacency entry (same layout as the adjacency's neighbour lists).
-    directions: Vec<Vec<DVec3>>,
+    /// `ê` for every adjacency entry, flat: vertex `v`'s are `offsets[v]..offsets[v + 1]`, in the
+    /// order of its neighbour list (one allocation, read in sequence by every product).
+    directions: Vec<DVec3>,
+    offsets: Vec<usize>,
     options: FineOptions,
 }
 
@@ -87,26 +89,59 @@ struct Solve {
     converged: bool,
 }
 
+/// Runs `chunk(first vertex, chunk of out)` over `out` in chunks of [`CHUNK`] vertices in parallel
+/// and sums what the chunks return in chunk order, so the sums do not depend on the thread count
+/// (the same grouping as [`ordered_sum`]).
+fn chunked<T: Send, const K: usize>(
+    out: &mut [T],
+    chunk: impl Fn(usize, &mut [T]) -> [f64; K] + Sync,
+) -> [f64; K] {
+    let partial: Vec<[f64; K]> = out
+        .par_chunks_mut(CHUNK)
+        .enumerate()
+        .map(|(c, o)| chunk(c * CHUNK, o))
+        .collect();
+    partial.iter().fold([0.0; K], |mut acc, p| {
+        acc.iter_mut().zip(p).for_each(|(a, p)| *a += p);
+        acc
+    })
+}
+
 impl<'a> System<'a> {
     fn new(surface: &'a Surface, start: &'a [DVec3], options: &FineOptions) -> Self {
-        let directions = (0..start.len())
+        let mut offsets = Vec::with_capacity(start.len() + 1);
+        offsets.push(0);
+        for v in 0..start.len() {
+            offsets.push(offsets[v] + surface.adjacency.neighbours(v).len());
+        }
+        let mut directions = vec![DVec3::ZERO; offsets[start.len()]];
+        let mut rest = directions.as_mut_slice();
+        let mut per_vertex = Vec::with_capacity(start.len());
+        for v in 0..start.len() {
+            let (head, tail) = rest.split_at_mut(offsets[v + 1] - offsets[v]);
+            per_vertex.push(head);
+            rest = tail;
+        }
+        per_vertex
             .into_par_iter()
+            .enumerate()
             .with_min_len(CHUNK)
-            .map(|v| {
-                surface
-                    .adjacency
-                    .neighbours(v)
-                    .iter()
-                    .map(|&u| (start[v] - start[u as usize]).normalize_or_zero())
-                    .collect()
-            })
-            .collect();
+            .for_each(|(v, out)| {
+                for (o, &u) in out.iter_mut().zip(surface.adjacency.neighbours(v)) {
+                    *o = (start[v] - start[u as usize]).normalize_or_zero();
+                }
+            });
         Self {
             surface,
             start,
             directions,
+            offsets,
             options: *options,
         }
+    }
+
+    fn directions(&self, v: usize) -> &[DVec3] {
+        &self.directions[self.offsets[v]..self.offsets[v + 1]]
     }
 
     /// `α_plane n nᵀ + α_point I` per vertex with a correspondence, zero otherwise.
@@ -140,25 +175,32 @@ impl<'a> System<'a> {
     }
 
     /// `(A d)_v = M_v d_v + Σ_u (α_disp I + α_edge ê êᵀ)(d_v − d_u)`.
-    fn apply(&self, fit: &[DMat3], d: &[DVec3], out: &mut [DVec3]) {
-        out.par_iter_mut()
-            .enumerate()
-            .with_min_len(CHUNK)
-            .for_each(|(v, o)| {
-                let mut y = fit[v] * d[v];
-                for (&u, &e) in self
-                    .surface
-                    .adjacency
-                    .neighbours(v)
-                    .iter()
-                    .zip(&self.directions[v])
-                {
-                    let diff = d[v] - d[u as usize];
-                    y += self.options.disp_weight * diff
-                        + self.options.edge_weight * e * e.dot(diff);
-                }
-                *o = y;
-            });
+    fn apply_vertex(&self, fit: &[DMat3], d: &[DVec3], v: usize) -> DVec3 {
+        let mut y = fit[v] * d[v];
+        for (&u, &e) in self
+            .surface
+            .adjacency
+            .neighbours(v)
+            .iter()
+            .zip(self.directions(v))
+        {
+            let diff = d[v] - d[u as usize];
+            y += self.options.disp_weight * diff + self.options.edge_weight * e * e.dot(diff);
+        }
+        y
+    }
+
+    /// `out = A d`; returns `dᵀ A d`.
+    fn apply(&self, fit: &[DMat3], d: &[DVec3], out: &mut [DVec3]) -> f64 {
+        let [dad] = chunked(out, |first, o| {
+            let mut dad = 0.0;
+            for (k, o) in o.iter_mut().enumerate() {
+                *o = self.apply_vertex(fit, d, first + k);
+                dad += d[first + k].dot(*o);
+            }
+            [dad]
+        });
+        dad
     }
 
     /// The energy `E(d)` with correspondences `found`.
@@ -175,7 +217,7 @@ impl<'a> System<'a> {
                 .adjacency
                 .neighbours(v)
                 .iter()
-                .zip(&self.directions[v])
+                .zip(self.directions(v))
                 .filter(|&(&u, _)| u as usize > v)
                 .map(|(&u, &e)| {
                     let diff = d[v] - d[u as usize];
@@ -186,14 +228,18 @@ impl<'a> System<'a> {
         })
     }
 
-    /// Preconditioned conjugate gradients on `A d = b`, from the `d` given.
+    /// Preconditioned conjugate gradients on `A d = b`, from the `d` given. Each iteration is
+    /// three parallel passes over the vertices (the product with its `pᵀAp`; the updates of `d`,
+    /// `r` and `z` with `rᵀz` and `rᵀr`; the new direction): the vectors are a few megabytes, so
+    /// passes, not arithmetic, are what an iteration costs.
     fn solve(&self, fit: &[DMat3], b: &[DVec3], d: &mut [DVec3], options: &FineOptions) -> Solve {
         let n = d.len();
         let preconditioner: Vec<DMat3> = (0..n)
             .into_par_iter()
             .with_min_len(CHUNK)
             .map(|v| {
-                let block = self.directions[v]
+                let block = self
+                    .directions(v)
                     .iter()
                     .fold(fit[v], |acc, &e| acc + self.edge_block(e));
                 if block.determinant().abs() > 1e-300 {
@@ -203,11 +249,7 @@ impl<'a> System<'a> {
                 }
             })
             .collect();
-        let dot = |a: &[DVec3], c: &[DVec3]| ordered_sum(a.len(), |v| a[v].dot(c[v]));
-        let mut ad = vec![DVec3::ZERO; n];
-        self.apply(fit, d, &mut ad);
-        let mut r: Vec<DVec3> = b.iter().zip(&ad).map(|(b, a)| *b - *a).collect();
-        let b_norm = dot(b, b).sqrt();
+        let b_norm = ordered_sum(n, |v| b[v].length_squared()).sqrt();
         if b_norm == 0.0 {
             d.iter_mut().for_each(|v| *v = DVec3::ZERO);
             return Solve {
@@ -216,38 +258,56 @@ impl<'a> System<'a> {
                 converged: true,
             };
         }
+        let mut ad = vec![DVec3::ZERO; n];
+        self.apply(fit, d, &mut ad);
+        let mut r: Vec<DVec3> = b.iter().zip(&ad).map(|(b, a)| *b - *a).collect();
         let mut z: Vec<DVec3> = preconditioner
             .iter()
             .zip(&r)
             .map(|(m, r)| *m * *r)
             .collect();
         let mut p = z.clone();
-        let mut rz = dot(&r, &z);
-        let mut residual = dot(&r, &r).sqrt() / b_norm;
+        let mut rz = ordered_sum(n, |v| r[v].dot(z[v]));
+        let mut residual = ordered_sum(n, |v| r[v].length_squared()).sqrt() / b_norm;
         let mut iterations = 0;
         while residual > options.tolerance && iterations < options.max_cg_iterations {
-            self.apply(fit, &p, &mut ad);
-            let pap = dot(&p, &ad);
+            let pap = self.apply(fit, &p, &mut ad);
             if pap <= 0.0 || !pap.is_finite() {
                 break;
             }
             let alpha = rz / pap;
-            d.par_iter_mut().zip(&p).for_each(|(d, p)| *d += alpha * *p);
-            r.par_iter_mut()
-                .zip(&ad)
-                .for_each(|(r, a)| *r -= alpha * *a);
-            z.par_iter_mut()
-                .zip(&preconditioner)
-                .zip(&r)
-                .for_each(|((z, m), r)| *z = *m * *r);
-            let rz_next = dot(&r, &z);
+            let partial: Vec<[f64; 2]> = d
+                .par_chunks_mut(CHUNK)
+                .zip(r.par_chunks_mut(CHUNK))
+                .zip(z.par_chunks_mut(CHUNK))
+                .enumerate()
+                .map(|(c, ((d, r), z))| {
+                    let (mut rz, mut rr) = (0.0, 0.0);
+                    for (k, ((d, r), z)) in d.iter_mut().zip(r).zip(z).enumerate() {
+                        let v = c * CHUNK + k;
+                        *d += alpha * p[v];
+                        *r -= alpha * ad[v];
+                        *z = preconditioner[v] * *r;
+                        rz += r.dot(*z);
+                        rr += r.length_squared();
+                    }
+                    [rz, rr]
+                })
+                .collect();
+            let (rz_next, rr) = partial
+                .iter()
+                .fold((0.0, 0.0), |(a, b), p| (a + p[0], b + p[1]));
             let beta = rz_next / rz;
             rz = rz_next;
-            p.par_iter_mut()
-                .zip(&z)
-                .for_each(|(p, z)| *p = *z + beta * *p);
-            residual = dot(&r, &r).sqrt() / b_norm;
+            residual = rr.sqrt() / b_norm;
             iterations += 1;
+            if residual > options.tolerance {
+                p.par_chunks_mut(CHUNK)
+                    .zip(z.par_chunks(CHUNK))
+                    .for_each(|(p, z)| {
+                        p.iter_mut().zip(z).for_each(|(p, z)| *p = *z + beta * *p);
+                    });
+            }
         }
         Solve {
             iterations,

@@ -1,10 +1,12 @@
 //! Bar 1 of issue 5: every analytic Jacobian of the coarse energy checked against central finite
 //! differences of its residuals, and everything built from them (`Jᵀr`, the assembled `JᵀJ`, the
-//! matrix-free product, the graph-pattern bound) checked against the Jacobian.
+//! matrix-free product, the graph-pattern bound) checked against the Jacobian; and the
+//! single-precision factor that preconditions the coarse solves checked to solve `JᵀJ`.
 
 use glam::{DVec3, Vec3};
 
 use super::assemble::assemble;
+use super::cholesky::Cholesky;
 use super::energy::{
     CoarseWeights, FitTarget, energy, fit_pulls, gradient, rigid_jacobian, rigid_residuals,
     smooth_psi, smooth_residual,
@@ -295,4 +297,38 @@ fn gradient_hessian_and_product_come_from_the_jacobian() {
             "trial {trial}: bound {upper} < {exact}"
         );
     }
+}
+
+/// The Jacobi-scaled `f32` factor of the exact `JᵀJ` solves it to single precision times the
+/// (scaled) conditioning: it is a preconditioner, so it only has to be close.
+#[test]
+fn single_precision_factor_solves_the_gauss_newton_matrix() {
+    let p = problem();
+    let n = p.model.unknowns();
+    let fit: Vec<[[f64; 3]; 3]> = p
+        .targets
+        .iter()
+        .map(|c| c.map_or([[0.0; 3]; 3], |c| p.w.fit_matrix(c.normal)))
+        .collect();
+    let pattern = Pattern::new(&p.model, Coupling::Full).unwrap();
+    let mut values = vec![0.0; pattern.row_idx.len()];
+    assemble(&pattern, &p.model, &p.x, &fit, &p.w, &mut values);
+    let mut cholesky = Cholesky::analyze(&pattern, faer::Par::Seq).unwrap();
+    cholesky.factor(&pattern, &values).unwrap();
+    let mut noise = Noise(5);
+    let rhs: Vec<f64> = (0..n).map(|_| noise.next()).collect();
+    let mut x = rhs.clone();
+    cholesky.solve(&mut x).unwrap();
+    let mut hx = vec![0.0; n];
+    for (row, col, value) in entries(&pattern, &values) {
+        hx[row] += value * x[col];
+        if row != col {
+            hx[col] += value * x[row];
+        }
+    }
+    let error = max_abs(hx.iter().zip(&rhs).map(|(a, b)| a - b));
+    assert!(
+        error < 1e-3 * max_abs(rhs.iter().copied()),
+        "residual {error:e}"
+    );
 }

@@ -69,7 +69,8 @@ pub struct CoarseOptions {
 pub enum LinearSolver {
     /// Factor the exact `JᵀJ` every iteration (paper §4.2). Its pattern couples every pair of nodes
     /// that skin a common vertex, about twice as wide as the graph, so its factor fills about
-    /// three times as much.
+    /// three times as much. The factor is single precision (see `register::cholesky`), so
+    /// conjugate gradients still take about one iteration to reach `cg_tolerance`.
     Cholesky,
     /// Conjugate gradients on the exact system, preconditioned by the Cholesky factor of an upper
     /// bound of `JᵀJ` with the graph's own sparsity; the factor is kept across iterations and

@@ -49,6 +49,18 @@ pub fn pcg(
     let mut residual = dot(&r, &r).sqrt() / b_norm;
     let mut iterations = 0;
     while residual > tolerance && iterations < max_iterations {
+        if iterations > 0 {
+            // The next direction, only once the residual has been found short of the tolerance:
+            // the preconditioner (a pair of triangular solves in the coarse stage) is the
+            // iteration's main cost, and the last iteration needs none.
+            precondition(&r, &mut z);
+            let rz_next = dot(&r, &z);
+            let beta = rz_next / rz;
+            rz = rz_next;
+            p.par_iter_mut()
+                .zip(&z)
+                .for_each(|(p, z)| *p = z + beta * *p);
+        }
         apply(&p, &mut ax);
         let pap = dot(&p, &ax);
         if !(pap > 0.0 && pap.is_finite()) {
@@ -57,13 +69,6 @@ pub fn pcg(
         let alpha = rz / pap;
         x.par_iter_mut().zip(&p).for_each(|(x, p)| *x += alpha * p);
         r.par_iter_mut().zip(&ax).for_each(|(r, a)| *r -= alpha * a);
-        precondition(&r, &mut z);
-        let rz_next = dot(&r, &z);
-        let beta = rz_next / rz;
-        rz = rz_next;
-        p.par_iter_mut()
-            .zip(&z)
-            .for_each(|(p, z)| *p = z + beta * *p);
         residual = dot(&r, &r).sqrt() / b_norm;
         iterations += 1;
     }
