@@ -312,7 +312,7 @@ pub const KERNELS: &[KernelInfo] = &[
                 access: Access::ReadWrite,
             },
         ],
-        cpu_twin: "src/grid/distance.rs",
+        cpu_twin: "src/grid/distance_cpu.rs",
     },
 ];
 

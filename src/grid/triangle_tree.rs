@@ -361,36 +361,41 @@ fn node_count(n: usize) -> usize {
 }
 
 /// Writes the subtree over `items` into `nodes`, whose first entry is node number `at`, with leaf
-/// slots from `first`, reordering `items` into leaf order. Halves are built in parallel; the layout
-/// is fixed by the counts alone, so it does not depend on the thread count.
+/// slots from `first`, reordering `items` into leaf order, and returns the subtree's box. Halves
+/// are built in parallel; the layout is fixed by the counts alone, so it does not depend on the
+/// thread count.
 fn build_node(
     items: &mut [Item],
     boxes: &[TriangleBox],
     nodes: &mut [TreeNode],
     at: usize,
     first: usize,
-) {
-    let mut min = [f32::INFINITY; 3];
-    let mut max = [f32::NEG_INFINITY; 3];
-    let mut lo = [f32::INFINITY; 3];
-    let mut hi = [f32::NEG_INFINITY; 3];
-    for item in items.iter() {
-        let b = &boxes[item.id as usize];
-        for a in 0..3 {
-            min[a] = min[a].min(b.min[a]);
-            max[a] = max[a].max(b.max[a]);
-            lo[a] = lo[a].min(item.centroid[a]);
-            hi[a] = hi[a].max(item.centroid[a]);
-        }
-    }
+) -> TriangleBox {
     if items.len() <= LEAF_SIZE {
+        let mut min = [f32::INFINITY; 3];
+        let mut max = [f32::NEG_INFINITY; 3];
+        for item in items.iter() {
+            let b = &boxes[item.id as usize];
+            for a in 0..3 {
+                min[a] = min[a].min(b.min[a]);
+                max[a] = max[a].max(b.max[a]);
+            }
+        }
         nodes[0] = TreeNode {
             min,
             index: first as u32,
             max,
             count: items.len() as u32,
         };
-        return;
+        return TriangleBox { min, max };
+    }
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for item in items.iter() {
+        for a in 0..3 {
+            lo[a] = lo[a].min(item.centroid[a]);
+            hi[a] = hi[a].max(item.centroid[a]);
+        }
     }
     let axis = (0..3)
         .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))
@@ -402,24 +407,32 @@ fn build_node(
             .then(x.id.cmp(&y.id))
     });
     let left_nodes = node_count(half);
-    nodes[0] = TreeNode {
-        min,
-        index: (at + 1 + left_nodes) as u32,
-        max,
-        count: 0,
-    };
     let (left_items, right_items) = items.split_at_mut(half);
-    let (left, right) = nodes[1..].split_at_mut(left_nodes);
+    let (own, children) = nodes.split_at_mut(1);
+    let (left, right) = children.split_at_mut(left_nodes);
     let right_at = at + 1 + left_nodes;
-    if left_items.len() > PARALLEL_BUILD {
+    let (l, r) = if left_items.len() > PARALLEL_BUILD {
         rayon::join(
             || build_node(left_items, boxes, left, at + 1, first),
             || build_node(right_items, boxes, right, right_at, first + half),
-        );
+        )
     } else {
-        build_node(left_items, boxes, left, at + 1, first);
-        build_node(right_items, boxes, right, right_at, first + half);
-    }
+        (
+            build_node(left_items, boxes, left, at + 1, first),
+            build_node(right_items, boxes, right, right_at, first + half),
+        )
+    };
+    // The node's box is the union of its children's: the same as over its triangles, without
+    // visiting their boxes again at every level.
+    let min = std::array::from_fn(|a| l.min[a].min(r.min[a]));
+    let max = std::array::from_fn(|a| l.max[a].max(r.max[a]));
+    own[0] = TreeNode {
+        min,
+        index: right_at as u32,
+        max,
+        count: 0,
+    };
+    TriangleBox { min, max }
 }
 
 /// Triangle `t` with its corners as offsets from its lowest cell.
