@@ -8,39 +8,13 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use glam::Vec3;
 use surftrack::compute::{Backend, BackendChoice};
-use surftrack::grid::{
-    GridFrame, LatticeMesh, ScalarGrid, edge_faces, footprint, marching_cubes, rasterize,
-    signed_distance, sweep,
-};
-use surftrack::mesh::IndexedMesh;
+use surftrack::grid::{LatticeMesh, edge_faces, footprint, rasterize, signed_distance, sweep};
 
-/// Cells across the box.
-const N: usize = 128;
+#[path = "support/metaballs.rs"]
+mod metaballs;
 
-/// Three blended Gaussian blobs extracted by marching cubes on the benchmark grid itself, and
-/// that grid: about 100 k triangles whose vertices lie on grid edges.
-fn metaballs() -> (IndexedMesh, GridFrame) {
-    let centers = [
-        Vec3::new(-0.4, -0.2, 0.0),
-        Vec3::new(0.45, 0.05, 0.1),
-        Vec3::new(0.0, 0.45, -0.3),
-    ];
-    let width = 0.57f32;
-    let spacing = 2.0 / N as f32;
-    let origin = Vec3::splat(-1.0);
-    let grid = ScalarGrid::from_fn(origin, spacing, [N + 1; 3], |p| {
-        let sum: f32 = centers
-            .iter()
-            .map(|c| (-(p - *c).length_squared() / (width * width)).exp())
-            .sum();
-        0.5 - sum
-    })
-    .expect("benchmark grid shape is valid");
-    let frame = GridFrame::new(origin, spacing).expect("benchmark frame is valid");
-    (marching_cubes(&grid, 0.0), frame)
-}
+use metaballs::{N, metaballs};
 
 fn bench(c: &mut Criterion) {
     let gpu = match Backend::select(BackendChoice::Gpu) {

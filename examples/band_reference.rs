@@ -11,15 +11,11 @@ use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
-use glam::Vec3;
 use surftrack::compute::Backend;
-use surftrack::grid::{
-    GridFrame, LatticeMesh, ScalarGrid, edge_faces, footprint, marching_cubes, rasterize,
-    signed_distance, sweep,
-};
+use surftrack::grid::{LatticeMesh, edge_faces, footprint, rasterize, signed_distance, sweep};
 
-/// Cells across the box, as in `benches/grid.rs`.
-const N: usize = 128;
+#[path = "../benches/support/metaballs.rs"]
+mod metaballs;
 
 fn write(path: &Path, values: impl Iterator<Item = [u8; 8]>) -> std::io::Result<()> {
     let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
@@ -33,23 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let dir = args.next().ok_or("usage: band_reference DIR [RUNS]")?;
     let runs: usize = args.next().map_or(Ok(5), |r| r.parse())?;
-    let centers = [
-        Vec3::new(-0.4, -0.2, 0.0),
-        Vec3::new(0.45, 0.05, 0.1),
-        Vec3::new(0.0, 0.45, -0.3),
-    ];
-    let width = 0.57f32;
-    let spacing = 2.0 / N as f32;
-    let origin = Vec3::splat(-1.0);
-    let grid = ScalarGrid::from_fn(origin, spacing, [N + 1; 3], |p| {
-        let sum: f32 = centers
-            .iter()
-            .map(|c| (-(p - *c).length_squared() / (width * width)).exp())
-            .sum();
-        0.5 - sum
-    })?;
-    let frame = GridFrame::new(origin, spacing)?;
-    let mesh = marching_cubes(&grid, 0.0);
+    let (mesh, frame) = metaballs::metaballs();
     let lattice = LatticeMesh::new(frame, &mesh)?;
     let crossings = rasterize(&Backend::Cpu, &lattice)?;
     let windings = sweep(&Backend::Cpu, &crossings)?;

@@ -175,6 +175,23 @@ fn entries<'a>(
         })
 }
 
+/// The fit term's 3×3 matrix of every sample of `p` (zero without a correspondence).
+fn fit_matrices(p: &Problem) -> Vec<[[f64; 3]; 3]> {
+    p.targets
+        .iter()
+        .map(|c| c.map_or([[0.0; 3]; 3], |c| p.w.fit_matrix(c.normal)))
+        .collect()
+}
+
+/// `JᵀJ` of `p` at its state, assembled on the pattern of `coupling`.
+fn assembled(p: &Problem, coupling: Coupling) -> (Pattern, Vec<f64>) {
+    let fit = fit_matrices(p);
+    let pattern = Pattern::new(&p.model, coupling).unwrap();
+    let mut values = vec![0.0; pattern.row_idx.len()];
+    assemble(&pattern, &p.model, &p.x, &fit, &p.w, &mut values);
+    (pattern, values)
+}
+
 fn max_abs(values: impl Iterator<Item = f64>) -> f64 {
     values.fold(0.0, |m, v| m.max(v.abs()))
 }
@@ -234,14 +251,8 @@ fn gradient_hessian_and_product_come_from_the_jacobian() {
     );
 
     let jtj = |a: usize, b: usize| -> f64 { j.iter().map(|row| row[a] * row[b]).sum() };
-    let fit: Vec<[[f64; 3]; 3]> = p
-        .targets
-        .iter()
-        .map(|c| c.map_or([[0.0; 3]; 3], |c| p.w.fit_matrix(c.normal)))
-        .collect();
-    let pattern = Pattern::new(&p.model, Coupling::Full).unwrap();
-    let mut values = vec![0.0; pattern.row_idx.len()];
-    assemble(&pattern, &p.model, &p.x, &fit, &p.w, &mut values);
+    let fit = fit_matrices(&p);
+    let (pattern, values) = assembled(&p, Coupling::Full);
     let mut dense = vec![vec![0.0; n]; n];
     for (row, col, value) in entries(&pattern, &values) {
         dense[row][col] = value;
@@ -275,9 +286,7 @@ fn gradient_hessian_and_product_come_from_the_jacobian() {
         "product error {error:e}"
     );
 
-    let bound = Pattern::new(&p.model, Coupling::Graph).unwrap();
-    let mut bound_values = vec![0.0; bound.row_idx.len()];
-    assemble(&bound, &p.model, &p.x, &fit, &p.w, &mut bound_values);
+    let (bound, bound_values) = assembled(&p, Coupling::Graph);
     let quadratic = |values: &[f64], pattern: &Pattern, v: &[f64]| -> f64 {
         entries(pattern, values)
             .map(|(row, col, value)| {
@@ -305,14 +314,7 @@ fn gradient_hessian_and_product_come_from_the_jacobian() {
 fn single_precision_factor_solves_the_gauss_newton_matrix() {
     let p = problem();
     let n = p.model.unknowns();
-    let fit: Vec<[[f64; 3]; 3]> = p
-        .targets
-        .iter()
-        .map(|c| c.map_or([[0.0; 3]; 3], |c| p.w.fit_matrix(c.normal)))
-        .collect();
-    let pattern = Pattern::new(&p.model, Coupling::Full).unwrap();
-    let mut values = vec![0.0; pattern.row_idx.len()];
-    assemble(&pattern, &p.model, &p.x, &fit, &p.w, &mut values);
+    let (pattern, values) = assembled(&p, Coupling::Full);
     let mut cholesky = Cholesky::analyze(&pattern, faer::Par::Seq).unwrap();
     cholesky.factor(&pattern, &values).unwrap();
     let mut noise = Noise(5);
