@@ -15,7 +15,7 @@ use crate::improve::{ImproveError, ImproveParams, improve};
 use crate::mesh::{IndexedMesh, Mesh, MeshError};
 use crate::project::{Bvh, ProjectError, closest_points};
 use crate::reconcile::{ReconcileCounts, ReconcileError, reconcile_components};
-use crate::register::{RegisterError, RegisterOptions, register};
+use crate::register::{RegisterError, RegisterOptions, register_onto};
 use crate::topology::{Field, TopologyError, TopologyOptions, constrain_topology};
 use serde::{Deserialize, Serialize};
 use std::time::{Duration, Instant};
@@ -254,9 +254,11 @@ impl Tracker {
         // The target's tree serves the projection baseline, reconciliation and the residual.
         let bvh = Bvh::build(target).map_err(|source| TrackError::Project { frame, source })?;
         let converged = match self.options.motion {
-            Motion::Register => register(backend, &mut self.mesh, target, &self.options.register)
-                .map_err(|source| TrackError::Register { frame, source })?
-                .converged(),
+            Motion::Register => {
+                register_onto(backend, &mut self.mesh, &bvh, &self.options.register)
+                    .map_err(|source| TrackError::Register { frame, source })?
+                    .converged()
+            }
             Motion::Project => {
                 self.project_onto(backend, &bvh)
                     .map_err(|source| TrackError::Project { frame, source })?;

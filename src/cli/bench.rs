@@ -16,9 +16,14 @@ pub struct BenchArgs {
     /// Scene to track (its resolution is chosen to give each size).
     #[arg(long, default_value = "blobs")]
     scene: Scene,
-    /// Frames per sequence (the first initializes the tracker; the rest are timed).
+    /// Frames timed (the first initializes the tracker; the rest are timed).
     #[arg(long, default_value_t = 4)]
     frames: usize,
+    /// Length of the synthetic sequence the timed frames open, which sets the motion per frame (a
+    /// scene's whole motion spans its sequence: `blobs` turns once, so 32 frames turn 11.25° each,
+    /// 4 frames 90°). The default is `surftrack synth`'s.
+    #[arg(long, default_value_t = SynthOptions::default().frames)]
+    sequence_frames: usize,
     /// Only the ~16k-vertex size.
     #[arg(long)]
     small_only: bool,
@@ -73,8 +78,12 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             &resolutions(args.scene)[..]
         };
         for &resolution in sizes {
-            let options = SynthOptions { resolution, frames };
+            let options = SynthOptions {
+                resolution,
+                frames: args.sequence_frames.max(frames),
+            };
             let meshes: Vec<IndexedMesh> = generate(args.scene, &options)?
+                .take(frames)
                 .map(|f| f.map(|f| f.mesh))
                 .collect::<Result<_, _>>()?;
             time(args.scene.name(), &meshes, &backends)?;

@@ -9,7 +9,8 @@
 //! tolerance. The matrix is first scaled to unit diagonal (Jacobi), so `f32`'s range and precision
 //! see the matrix's conditioning rather than the spread of its weights (`α_reg` up to 10⁴ × `α_fit`).
 //! Should a pivot still vanish in `f32`, the same scaled matrix is factored in `f64`; only when that
-//! fails too is the non-positive pivot reported (the caller then adds damping).
+//! fails too is the non-positive pivot reported (the caller then adds damping). The single-precision
+//! work runs with subnormals flushed to zero (see `flush`).
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltError;
@@ -21,6 +22,7 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
 use super::RegisterError;
+use super::flush::flushing_subnormals;
 use super::pattern::Pattern;
 
 /// Which factor the last successful factorization produced.
@@ -117,15 +119,17 @@ impl Cholesky {
         }
         let structure =
             SymbolicSparseColMatRef::new_checked(n, n, &pattern.col_ptr, None, &pattern.row_idx);
-        let single = self.symbolic.factorize_numeric_llt(
-            &mut self.single,
-            SparseColMatRef::new(structure, &self.scaled),
-            Side::Upper,
-            Default::default(),
-            self.par,
-            MemStack::new(&mut self.factor_scratch),
-            Default::default(),
-        );
+        let single = flushing_subnormals(|| {
+            self.symbolic.factorize_numeric_llt(
+                &mut self.single,
+                SparseColMatRef::new(structure, &self.scaled),
+                Side::Upper,
+                Default::default(),
+                self.par,
+                MemStack::new(&mut self.factor_scratch),
+                Default::default(),
+            )
+        });
         if single.is_ok() {
             self.factored = Some(Precision::Single);
             return Ok(());
@@ -167,12 +171,14 @@ impl Cholesky {
                 for ((r, s), x) in self.rhs.iter_mut().zip(&self.scaling).zip(rhs.iter()) {
                     *r = (x * s) as f32;
                 }
-                LltRef::new(&self.symbolic, &self.single).solve_in_place_with_conj(
-                    Conj::No,
-                    MatMut::from_column_major_slice_mut(&mut self.rhs, n, 1),
-                    self.par,
-                    stack,
-                );
+                flushing_subnormals(|| {
+                    LltRef::new(&self.symbolic, &self.single).solve_in_place_with_conj(
+                        Conj::No,
+                        MatMut::from_column_major_slice_mut(&mut self.rhs, n, 1),
+                        self.par,
+                        stack,
+                    )
+                });
                 for ((x, s), r) in rhs.iter_mut().zip(&self.scaling).zip(&self.rhs) {
                     *x = f64::from(*r) * s;
                 }

@@ -15,6 +15,7 @@ mod correspond;
 mod energy;
 mod error;
 mod fine;
+mod flush;
 mod geodesic;
 mod graph;
 #[cfg(test)]
@@ -30,7 +31,7 @@ mod report;
 mod rigid;
 mod surface;
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use glam::Vec3;
 
@@ -95,8 +96,6 @@ pub fn register(
 ) -> Result<RegistrationReport, RegisterError> {
     let total = Instant::now();
     options.check()?;
-    let slots: Vec<VertexId> = mesh.vertices().collect();
-    let source = mesh.to_indexed();
     let t = Instant::now();
     let bvh = Bvh::build(target).map_err(|e| match e {
         ProjectError::Target(source) => RegisterError::Mesh {
@@ -106,11 +105,29 @@ pub fn register(
         other => RegisterError::Correspondence(other.to_string()),
     })?;
     let bvh_time = t.elapsed();
+    let mut report = register_onto(backend, mesh, &bvh, options)?;
+    report.bvh_time = bvh_time;
+    report.total_time = total.elapsed();
+    Ok(report)
+}
+
+/// [`register`] onto the target behind an already built `bvh` (the tracker builds one per frame for
+/// its other stages too); the report's `bvh_time` is zero.
+pub fn register_onto(
+    backend: &Backend,
+    mesh: &mut Mesh,
+    bvh: &Bvh,
+    options: &RegisterOptions,
+) -> Result<RegistrationReport, RegisterError> {
+    let total = Instant::now();
+    options.check()?;
+    let slots: Vec<VertexId> = mesh.vertices().collect();
+    let source = mesh.to_indexed();
     if !(bvh.mean_edge_length().is_finite() && bvh.mean_edge_length() > 0.0) {
         return Err(RegisterError::NoScale { which: "target" });
     }
     let t = Instant::now();
-    let mut coarse = CoarseSolver::new(backend, &bvh, &source, options)?;
+    let mut coarse = CoarseSolver::new(backend, bvh, &source, options)?;
     let setup_time = t.elapsed();
     let t = Instant::now();
     let coarse_report = coarse.run()?;
@@ -118,7 +135,7 @@ pub fn register(
     let t = Instant::now();
     let projector = Projector {
         backend,
-        bvh: &bvh,
+        bvh,
         max_angle_degrees: options.max_angle_degrees,
     };
     let surface = coarse.surface();
@@ -136,7 +153,7 @@ pub fn register(
         vertices: source.positions.len(),
         coarse: coarse_report,
         fine: fine_report,
-        bvh_time,
+        bvh_time: Duration::ZERO,
         setup_time,
         coarse_time,
         fine_time,
