@@ -1,27 +1,40 @@
-//! Prints one registration's report: frames 0 → 1 of `blobs` (1/32 of a turn apart, meshed
-//! independently) at the resolution given (default 260 cells, about 100k vertices), every
-//! Gauss-Newton iteration with its energies and sub-step times, then the fine stage's rounds.
-//! `cargo run --release --example register_report -- 104` for about 16k vertices.
+//! Prints one registration's report, every Gauss-Newton iteration with its energies and sub-step
+//! times, then the fine stage's rounds. With no argument or a number: frames 0 → 1 of `blobs` (1/32
+//! of a turn apart, meshed independently) at that resolution (default 260 cells, about 100k
+//! vertices; `104` gives about 16k). With two paths: that source frame onto that target frame.
+//!
+//! `cargo run --release --example register_report -- 104`
+//! `cargo run --release --example register_report -- tracked/frames/frame_0001.ply in/f_0002.ply`
+
+use std::path::Path;
 
 use surftrack::compute::Backend;
+use surftrack::io::read_frame;
 use surftrack::mesh::Mesh;
 use surftrack::register::{RegisterOptions, register};
 use surftrack::synth::{Scene, SynthOptions, extract, plan};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let resolution = match std::env::args().nth(1) {
-        Some(arg) => arg.parse()?,
-        None => 260,
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let (source, target) = if let [source, target] = &args[..] {
+        (
+            read_frame(Path::new(source))?.mesh,
+            read_frame(Path::new(target))?.mesh,
+        )
+    } else {
+        let resolution = match args.first() {
+            Some(arg) => arg.parse()?,
+            None => 260,
+        };
+        let truths = plan(
+            Scene::Blobs,
+            &SynthOptions {
+                resolution,
+                frames: 32,
+            },
+        )?;
+        (extract(&truths[0])?, extract(&truths[1])?)
     };
-    let truths = plan(
-        Scene::Blobs,
-        &SynthOptions {
-            resolution,
-            frames: 32,
-        },
-    )?;
-    let source = extract(&truths[0])?;
-    let target = extract(&truths[1])?;
     let mut mesh = Mesh::from_indexed(&source)?;
     let report = register(
         &Backend::Cpu,

@@ -96,9 +96,11 @@ pub enum TrackError {
 /// Wall-clock time of each stage of one frame, in milliseconds.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct StageTimes {
+    /// Registration, with `Φ(T)` computed alongside it (see [`Tracker::step`]).
     pub register: f64,
     pub improve: f64,
     pub topology_self: f64,
+    /// `ConstrainTopology(M, Φ(T))` itself; `Φ(T)` was computed during registration.
     pub topology_target: f64,
     /// Matching the components the topology grid cannot see (`reconcile`).
     pub reconcile: f64,
@@ -253,18 +255,25 @@ impl Tracker {
         let t = Instant::now();
         // The target's tree serves the projection baseline, reconciliation and the residual.
         let bvh = Bvh::build(target).map_err(|source| TrackError::Project { frame, source })?;
-        let converged = match self.options.motion {
-            Motion::Register => {
-                register_onto(backend, &mut self.mesh, &bvh, &self.options.register)
-                    .map_err(|source| TrackError::Register { frame, source })?
-                    .converged()
-            }
-            Motion::Project => {
-                self.project_onto(backend, &bvh)
-                    .map_err(|source| TrackError::Project { frame, source })?;
-                true
-            }
-        };
+        // Φ(T) depends on the target frame alone, so it is computed while the mesh registers:
+        // registration's sparse factorizations run on one core, and the other one would idle.
+        let (mesh, options, grid) = (&mut self.mesh, &self.options, self.grid);
+        let (moved, phi_t) = rayon::join(
+            || match options.motion {
+                Motion::Register => register_onto(backend, mesh, &bvh, &options.register)
+                    .map(|report| report.converged())
+                    .map_err(|source| TrackError::Register { frame, source }),
+                Motion::Project => project_onto(backend, mesh, &bvh)
+                    .map(|()| true)
+                    .map_err(|source| TrackError::Project { frame, source }),
+            },
+            || {
+                Field::signed_distance(backend, grid, target)
+                    .map_err(|source| TrackError::Topology { frame, source })
+            },
+        );
+        let converged = moved?;
+        let phi_t = phi_t?;
         times.register = ms(t.elapsed());
 
         let t = Instant::now();
@@ -285,8 +294,6 @@ impl Tracker {
         self.mesh.record_mutations();
 
         let t = Instant::now();
-        let phi_t = Field::signed_distance(backend, self.grid, target)
-            .map_err(|source| TrackError::Topology { frame, source })?;
         let constrained = constrain_topology(&mut self.mesh, &phi_t, &self.options.topology)
             .map_err(|source| TrackError::Topology { frame, source })?;
         times.topology_target = ms(t.elapsed());
@@ -321,19 +328,6 @@ impl Tracker {
         );
         log.reconciled = counts;
         Ok((events, log))
-    }
-
-    /// Moves every vertex to its closest point on the target whose tree is `bvh` ([`Motion::Project`]).
-    fn project_onto(&mut self, backend: &Backend, bvh: &Bvh) -> Result<(), ProjectError> {
-        let slots: Vec<_> = self.mesh.vertices().collect();
-        let points: Vec<glam::Vec3> = slots.iter().map(|&v| self.mesh.position(v)).collect();
-        let nearest = closest_points(backend, bvh, &points, f32::INFINITY)?;
-        for (&v, hit) in slots.iter().zip(&nearest) {
-            if hit.hit_triangle().is_some() {
-                self.mesh.set_position(v, hit.point);
-            }
-        }
-        Ok(())
     }
 
     /// Mean and largest distance from the tracked vertices to `target`, in units of `L`.
@@ -385,4 +379,18 @@ impl Tracker {
             times,
         }
     }
+}
+
+/// Moves every vertex of `mesh` to its closest point on the target whose tree is `bvh`
+/// ([`Motion::Project`]).
+fn project_onto(backend: &Backend, mesh: &mut Mesh, bvh: &Bvh) -> Result<(), ProjectError> {
+    let slots: Vec<_> = mesh.vertices().collect();
+    let points: Vec<glam::Vec3> = slots.iter().map(|&v| mesh.position(v)).collect();
+    let nearest = closest_points(backend, bvh, &points, f32::INFINITY)?;
+    for (&v, hit) in slots.iter().zip(&nearest) {
+        if hit.hit_triangle().is_some() {
+            mesh.set_position(v, hit.point);
+        }
+    }
+    Ok(())
 }
