@@ -14,6 +14,7 @@ use surftrack::io::{
     write_ply,
 };
 use surftrack::mesh::IndexedMesh;
+use surftrack::register::FineOptions;
 use surftrack::track::{FrameLog, Motion, TRACK_MAX_DEVIATION, TrackOptions, Tracker};
 
 /// Version of `track.json`.
@@ -87,6 +88,11 @@ pub struct MethodParams {
     /// Fine-stage correspondence cut-off σ in units of L (§4.2).
     #[arg(long, default_value_t = 1.0)]
     pub sigma: f64,
+    /// Weight of the fine stage's cover term, which lets target regions no source normal ray
+    /// reaches pull their nearest source points (0: the paper's one-sided fit).
+    #[arg(long, default_value_t = FineOptions::default().cover_weight)]
+    #[serde(default = "without_cover")]
+    pub cover_weight: f64,
     /// How the mesh follows each frame: `register` (the paper's §4.2) or `project` (each vertex to
     /// its closest point on the frame: the baseline of the paper's Fig. 9).
     #[arg(long, value_enum, default_value_t = MotionArg::Register)]
@@ -94,6 +100,12 @@ pub struct MethodParams {
     /// Only topology differences deeper than this many cells re-sample the mesh (§4.3).
     #[arg(long, default_value_t = 1)]
     pub depth: u32,
+}
+
+/// The cover weight of a run recorded before the flag existed: it ran without the term, so
+/// `--resume` asks for `--cover-weight 0` to continue it unchanged.
+fn without_cover() -> f64 {
+    0.0
 }
 
 /// `--motion`.
@@ -119,6 +131,7 @@ impl MethodParams {
         o.register.coarse.alpha_fit = self.alpha_fit;
         o.register.coarse.alpha_reg_start = self.alpha_reg;
         o.register.fine.sigma = self.sigma;
+        o.register.fine.cover_weight = self.cover_weight;
         o.topology.depth = self.depth;
         o.motion = match self.motion {
             MotionArg::Register => Motion::Register,

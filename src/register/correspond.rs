@@ -7,7 +7,19 @@ use super::RegisterError;
 use super::energy::FitTarget;
 use super::model::Units;
 use crate::compute::Backend;
-use crate::project::{Bvh, ProjectOptions, Status, project};
+use crate::mesh::IndexedMesh;
+use crate::project::{Bvh, ProjectOptions, Status, closest_points, project};
+
+/// A target surface sample paired with its nearest point on the deformed source (the fine stage's
+/// cover term): the sample and the target's unit normal there (world coordinates), and the source
+/// triangle with the barycentric weights of the nearest point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CoverHit {
+    pub point: Vec3,
+    pub normal: Vec3,
+    pub triangle: u32,
+    pub barycentric: Vec3,
+}
 
 /// Finds target points for source points with normals (world coordinates).
 pub trait Correspond {
@@ -23,6 +35,24 @@ pub trait Correspond {
 
     /// The target's mean edge length (the unit of `max_distance`).
     fn target_unit(&self) -> f32;
+
+    /// For each target surface sample between `min_distance` and `max_distance` (mean edge
+    /// lengths of `source`) from `source` (world coordinates) whose normal agrees with the
+    /// source's at its nearest point within the pruning angle: that pair. The samples are the
+    /// target triangles' centroids, with the target's vertex normals interpolated there.
+    fn cover(
+        &self,
+        source: &IndexedMesh,
+        min_distance: f32,
+        max_distance: f32,
+    ) -> Result<CoverPairs, RegisterError>;
+}
+
+/// What [`Correspond::cover`] found, and how many target samples it tried.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CoverPairs {
+    pub hits: Vec<CoverHit>,
+    pub samples: usize,
 }
 
 /// Normal-ray projection onto a target's BVH.
@@ -53,6 +83,49 @@ impl Correspond for Projector<'_> {
 
     fn target_unit(&self) -> f32 {
         self.bvh.mean_edge_length()
+    }
+
+    fn cover(
+        &self,
+        source: &IndexedMesh,
+        min_distance: f32,
+        max_distance: f32,
+    ) -> Result<CoverPairs, RegisterError> {
+        let failed = |e: crate::project::ProjectError| RegisterError::Correspondence(e.to_string());
+        let tree = Bvh::build(source).map_err(failed)?;
+        let (points, normals): (Vec<Vec3>, Vec<Vec3>) = self
+            .bvh
+            .triangles()
+            .iter()
+            .zip(self.bvh.normals())
+            .map(|(t, n)| {
+                (
+                    (t.a + t.b + t.c) / 3.0,
+                    (n.a + n.b + n.c).normalize_or_zero(),
+                )
+            })
+            .unzip();
+        let found = closest_points(self.backend, &tree, &points, max_distance).map_err(failed)?;
+        let min_cos = self.max_angle_degrees.to_radians().cos();
+        let near = min_distance * tree.mean_edge_length();
+        let hits = found
+            .iter()
+            .zip(points.iter().zip(&normals))
+            .filter_map(|(c, (&point, &normal))| {
+                let triangle = c.hit_triangle()?;
+                let usable = normal != Vec3::ZERO && c.distance.abs() >= near;
+                (usable && c.normal.dot(normal) >= min_cos).then_some(CoverHit {
+                    point,
+                    normal,
+                    triangle,
+                    barycentric: c.barycentric,
+                })
+            })
+            .collect();
+        Ok(CoverPairs {
+            hits,
+            samples: points.len(),
+        })
     }
 }
 

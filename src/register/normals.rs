@@ -40,6 +40,11 @@ impl VertexFaces {
         }
     }
 
+    /// The mesh's triangles.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
     /// Unit vertex normals with Max's weights (as `IndexedMesh::vertex_normals` with
     /// `NormalWeighting::Max`), each vertex summing its triangles in index order.
     pub fn normals(&self, positions: &[DVec3]) -> Vec<Vec3> {

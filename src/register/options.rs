@@ -111,6 +111,13 @@ pub struct FineOptions {
     pub disp_weight: f64,
     /// Weight of `E_edge`: squared (linearized) changes of edge lengths.
     pub edge_weight: f64,
+    /// Weight of the cover term (target samples pulling their nearest source points, see
+    /// `register::fine`) relative to `E_fit` (3: measured on the synth scenes, see there); 0 leaves
+    /// the paper's one-sided fit.
+    pub cover_weight: f64,
+    /// Target samples nearer the source than this (mean edge lengths) take no part in the cover
+    /// term: the source already reaches them.
+    pub cover_min_distance: f64,
     /// Rounds of (correspondences, conjugate-gradient solve), each warm-started from the last.
     pub rounds: usize,
     /// Conjugate gradients stop when the residual falls below this fraction of the right-hand side.
@@ -126,6 +133,8 @@ impl Default for FineOptions {
             point_weight: 0.1,
             disp_weight: 1.0,
             edge_weight: 1.0,
+            cover_weight: 3.0,
+            cover_min_distance: 0.25,
             rounds: 2,
             tolerance: 1e-4,
             max_cg_iterations: 200,
@@ -198,6 +207,8 @@ impl RegisterOptions {
         positive("fine point weight", f.point_weight)?;
         non_negative("fine disp weight", f.disp_weight)?;
         non_negative("fine edge weight", f.edge_weight)?;
+        non_negative("fine cover weight", f.cover_weight)?;
+        non_negative("fine cover minimum distance", f.cover_min_distance)?;
         positive("fine tolerance", f.tolerance)?;
         Ok(())
     }

@@ -100,6 +100,8 @@ impl CoarseReport {
 pub struct FineRound {
     pub kept: usize,
     pub pruned: usize,
+    /// Target samples pulling the source (the cover term).
+    pub cover: usize,
     /// The fine energy before and after the solve (same correspondences).
     pub energy_before: f64,
     pub energy: f64,
