@@ -11,17 +11,17 @@
 //! source normal ray reaches — a dimple deepening faster than the mesh follows, a thin spike —
 //! pulls on nothing, and the mesh lags behind it frame after frame (paper §4.2: "we do not
 //! guarantee that every target surface region will have a corresponding source point"). A cover
-//! term closes that gap: every target sample (triangle centroid) farther than
-//! `cover_min_distance` from the deformed source but within σ, whose normal agrees within the
-//! pruning angle, pulls the source's nearest point, a barycentric blend of three vertices, along
-//! the target's normal only (`E_plane`'s weight): a point term would also drag the surface
-//! sideways towards wherever the samples sit, which is drift; and samples the source already lies
-//! close to are left to `E_fit`, since there the term can only add the target's triangulation
-//! noise, which also accumulates as drift. It is scaled by `cover_weight` × source vertices /
-//! target samples so that both directions weigh alike at any resolution. At the defaults (weight 3, samples from 0.25 L) the `morph` scene's narrowing
-//! dimple is followed within 0.87 Δ where the one-sided fit lags 1.39 Δ behind, and the `rigid`
-//! scene's drift after 32 frames moves from 0.045% to 0.057% of its diagonal (`surftrack synth`,
-//! `track`, `eval` at their defaults).
+//! term closes that gap: every target sample (triangle centroid) farther than `cover_min_distance`
+//! from the source as the stage starts but within σ, whose normal agrees within the pruning angle,
+//! pulls the source's nearest point, a barycentric blend of three vertices, along the target's
+//! normal only (`E_plane`'s weight): a point term would also drag the surface sideways towards
+//! wherever the samples sit, which is drift; and samples the source already lies close to are left
+//! to `E_fit`, since there the term can only add the target's triangulation noise, which also
+//! accumulates as drift. It is scaled by `cover_weight` × source vertices / target samples so that
+//! both directions weigh alike at any resolution. At the defaults (weight 3, samples from 0.25 L)
+//! the `morph` scene's narrowing dimple is followed within 0.69 Δ where the one-sided fit lags
+//! 1.39 Δ behind, and the `rigid` scene's drift after 32 frames moves from 0.045% to 0.085% of its
+//! diagonal (`surftrack synth`, `track`, `eval` at their defaults).
 //!
 //! `E` is quadratic; its minimizer solves `A d = b`, found by conjugate gradients preconditioned
 //! with `A`'s 3×3 diagonal blocks, warm-started from the previous round's displacements.
@@ -53,6 +53,25 @@ pub fn fine(
         rounds: Vec::new(),
         converged: true,
     };
+    // The cover pairs are found once, at the start: a pair is a source triangle with barycentric
+    // weights and a target point, so its residual follows the displacements of every round;
+    // finding them again would cost a tree over the source and a query per target sample.
+    let t = Instant::now();
+    let cover = if options.cover_weight > 0.0 {
+        let world = IndexedMesh::new(
+            start.iter().map(|&p| surface.units.to_world(p)).collect(),
+            surface.faces.triangles().to_vec(),
+        );
+        let pairs = correspond.cover(
+            &world,
+            options.cover_min_distance as f32,
+            options.sigma as f32,
+        )?;
+        Cover::new(&pairs, surface, start, options)
+    } else {
+        Cover::default()
+    };
+    let mut cover_time = t.elapsed();
     for _ in 0..options.rounds {
         let t = Instant::now();
         let positions: Vec<DVec3> = start.iter().zip(&d).map(|(p, d)| *p + *d).collect();
@@ -64,24 +83,7 @@ pub fn fine(
             &normals,
             options.sigma,
         )?;
-        let cover = if options.cover_weight > 0.0 {
-            let world = IndexedMesh::new(
-                positions
-                    .iter()
-                    .map(|&p| surface.units.to_world(p))
-                    .collect(),
-                surface.faces.triangles().to_vec(),
-            );
-            let pairs = correspond.cover(
-                &world,
-                options.cover_min_distance as f32,
-                options.sigma as f32,
-            )?;
-            Cover::new(&pairs, surface, start, options)
-        } else {
-            Cover::default()
-        };
-        let correspondence = t.elapsed();
+        let correspondence = t.elapsed() + std::mem::take(&mut cover_time);
         let t = Instant::now();
         let fit = system.fit_matrices(&found);
         let mut b = system.rhs(&found, &fit);
