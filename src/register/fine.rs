@@ -154,7 +154,7 @@ impl Cover {
             cover.weights.push(w);
             cover
                 .matrices
-                .push(DMat3::from_cols(n * n.x, n * n.y, n * n.z) * (options.plane_weight * scale));
+                .push(outer(n) * (options.plane_weight * scale));
             cover.gaps.push(surface.units.to_local(hit.point) - at);
         }
         let mut offsets = vec![0usize; start.len() + 1];
@@ -253,6 +253,11 @@ impl Cover {
     }
 }
 
+/// `v vᵀ`.
+fn outer(v: DVec3) -> DMat3 {
+    DMat3::from_cols(v * v.x, v * v.y, v * v.z)
+}
+
 /// How a conjugate-gradient solve ended.
 struct Solve {
     iterations: usize,
@@ -304,7 +309,7 @@ impl<'a> System<'a> {
             .map(|c| {
                 c.map_or(DMat3::ZERO, |c| {
                     let n = c.normal;
-                    DMat3::from_cols(n * n.x, n * n.y, n * n.z) * self.options.plane_weight
+                    outer(n) * self.options.plane_weight
                         + DMat3::IDENTITY * self.options.point_weight
                 })
             })
@@ -323,8 +328,7 @@ impl<'a> System<'a> {
 
     /// The regularization block of edge direction `e`: `α_disp I + α_edge ê êᵀ`.
     fn edge_block(&self, e: DVec3) -> DMat3 {
-        DMat3::IDENTITY * self.options.disp_weight
-            + DMat3::from_cols(e * e.x, e * e.y, e * e.z) * self.options.edge_weight
+        DMat3::IDENTITY * self.options.disp_weight + outer(e) * self.options.edge_weight
     }
 
     /// `(A d)_v = M_v d_v + Σ_u (α_disp I + α_edge ê êᵀ)(d_v − d_u)`.
