@@ -129,7 +129,7 @@ pub fn signed_distance(
             distance_cpu(&tree, &chunks, &tiles, bound)
         }
         Backend::Gpu(context) => {
-            let (chunks, _) = tiles(&rows, GPU_CHUNK_LEN)?;
+            let chunks = chunks(&rows, GPU_CHUNK_LEN)?;
             let job = GpuDistance::upload(context, &tree, &chunks, bound)?;
             job.dispatch(context)?;
             job.read(context)?
@@ -206,12 +206,9 @@ impl BandTile {
     };
 }
 
-/// The candidate rows cut into chunks at multiples of `chunk_len`, results numbered in row
-/// order, then grouped into tiles (chunks in tile order, and the tiles).
-pub(crate) fn tiles(
-    rows: &Rows,
-    chunk_len: i32,
-) -> Result<(Vec<BandChunk>, Vec<BandTile>), RasterError> {
+/// The candidate rows cut into chunks at multiples of `chunk_len`, in row order, results numbered
+/// in that order.
+pub(crate) fn chunks(rows: &Rows, chunk_len: i32) -> Result<Vec<BandChunk>, RasterError> {
     let mut chunks = Vec::with_capacity(rows.runs.len());
     let mut out = 0usize;
     for (r, &[k, j]) in rows.keys.iter().enumerate() {
@@ -230,6 +227,15 @@ pub(crate) fn tiles(
             }
         }
     }
+    Ok(chunks)
+}
+
+/// The [`chunks`] grouped into tiles: the chunks in tile order, and the tiles.
+pub(crate) fn tiles(
+    rows: &Rows,
+    chunk_len: i32,
+) -> Result<(Vec<BandChunk>, Vec<BandTile>), RasterError> {
+    let mut chunks = chunks(rows, chunk_len)?;
     let tile_of = |c: &BandChunk| {
         (
             c.first[2].div_euclid(TILE_ROWS),
