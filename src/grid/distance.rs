@@ -121,7 +121,7 @@ pub fn signed_distance(
             ..NarrowBand::default()
         });
     }
-    let rows = dilated_corners(footprint, half_width.floor() as i32);
+    let rows = dilated_corners(footprint, half_width);
     let bound = half_width * half_width;
     let nearest = match backend {
         Backend::Cpu => {
