@@ -7,13 +7,15 @@
 //! agree up to rounding whatever bounds each uses. The GPU keeps one chunk per tile and recomputes
 //! the box and plane bounds ([`super::distance_gpu`] says why); here a tile holds up to
 //! [`TILE_ROWS`](super::distance::TILE_ROWS)² chunks sharing one gather, and the bounds are tighter (a disk around each
-//! triangle) and computed [`SKIP_BLOCK`] triangles at a time as vector instructions.
+//! triangle) and computed [`SKIP_BLOCK`] triangles at a time as vector instructions, as is the
+//! exact test of a block with a triangle below the best distance (the scalar test's branches
+//! mispredict; the vector one gives the same bits without them).
 
 use rayon::prelude::*;
 use wide::f32x8;
 
 use super::distance::{BandChunk, BandTile, GATHER_CAPACITY, Nearest};
-use super::triangle_tree::TriangleTree;
+use super::triangle_tree::{TreeTriangle, TriangleTree, point_triangle_distance_squared};
 
 /// Triangles whose bounds are computed and tested together: the lists are kept in blocks of this
 /// many, padded with entries whose bound is infinite, so each operation of a bound runs on a whole
@@ -80,6 +82,113 @@ struct NearBlock {
     radius: [f32; SKIP_BLOCK],
 }
 
+/// [`SKIP_BLOCK`] triangles for the exact test, one array per coordinate: the chunk's first
+/// corner and the vertices, each from its triangle's own base cell, exactly as
+/// [`TreeTriangle::distance_squared`] takes them, so the vector test gives the same bits.
+#[derive(Debug, Clone, Copy)]
+struct TriangleBlock {
+    corner: [[f32; SKIP_BLOCK]; 3],
+    a: [[f32; SKIP_BLOCK]; 3],
+    b: [[f32; SKIP_BLOCK]; 3],
+    c: [[f32; SKIP_BLOCK]; 3],
+}
+
+impl TriangleBlock {
+    const EMPTY: Self = Self {
+        corner: [[0.0; SKIP_BLOCK]; 3],
+        a: [[0.0; SKIP_BLOCK]; 3],
+        b: [[0.0; SKIP_BLOCK]; 3],
+        c: [[0.0; SKIP_BLOCK]; 3],
+    };
+
+    fn set(&mut self, j: usize, t: &TreeTriangle, first: [i32; 3]) {
+        for (k, &first) in first.iter().enumerate() {
+            self.corner[k][j] = (first - t.base[k]) as f32;
+            self.a[k][j] = t.a[k];
+            self.b[k][j] = t.b[k];
+            self.c[k][j] = t.c[k];
+        }
+    }
+
+    /// Squared distances from the corner `step` cells along x from the chunk's first corner to
+    /// the block's triangles: [`point_triangle_distance_squared`] on all of them at once, its
+    /// Voronoi regions as masks taken in the same order, with the same operations on the same
+    /// operands. The rare lanes that fall through every region (degenerate triangles) are computed
+    /// one by one.
+    fn exact(&self, step: f32) -> [f32; SKIP_BLOCK] {
+        let v = f32x8::from;
+        let zero = f32x8::ZERO;
+        let p = [
+            v(self.corner[0]) + f32x8::splat(step),
+            v(self.corner[1]),
+            v(self.corner[2]),
+        ];
+        let (a, b, c) = (self.a.map(v), self.b.map(v), self.c.map(v));
+        let sub = |x: [f32x8; 3], y: [f32x8; 3]| [x[0] - y[0], x[1] - y[1], x[2] - y[2]];
+        let dot = |x: [f32x8; 3], y: [f32x8; 3]| x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+        let along = |x: [f32x8; 3], d: [f32x8; 3], s: f32x8| {
+            [x[0] + d[0] * s, x[1] + d[1] * s, x[2] + d[2] * s]
+        };
+        let squared = |x: [f32x8; 3], q: [f32x8; 3]| {
+            let d = sub(x, q);
+            dot(d, d)
+        };
+        let (ab, ac, ap) = (sub(b, a), sub(c, a), sub(p, a));
+        let (d1, d2) = (dot(ab, ap), dot(ac, ap));
+        let bp = sub(p, b);
+        let (d3, d4) = (dot(ab, bp), dot(ac, bp));
+        let cp = sub(p, c);
+        let (d5, d6) = (dot(ab, cp), dot(ac, cp));
+        let vc = d1 * d4 - d3 * d2;
+        let vb = d5 * d2 - d1 * d6;
+        let va = d3 * d6 - d5 * d4;
+        let (e1, e2) = (d4 - d3, d5 - d6);
+        let sum = va + vb + vc;
+        let regions = [
+            (d1.simd_le(zero) & d2.simd_le(zero), dot(ap, ap)),
+            (d3.simd_ge(zero) & d4.simd_le(d3), dot(bp, bp)),
+            (d6.simd_ge(zero) & d5.simd_le(d6), dot(cp, cp)),
+            (
+                vc.simd_le(zero) & d1.simd_ge(zero) & d3.simd_le(zero) & (d1 - d3).simd_gt(zero),
+                squared(p, along(a, ab, d1 / (d1 - d3))),
+            ),
+            (
+                vb.simd_le(zero) & d2.simd_ge(zero) & d6.simd_le(zero) & (d2 - d6).simd_gt(zero),
+                squared(p, along(a, ac, d2 / (d2 - d6))),
+            ),
+            (
+                va.simd_le(zero) & e1.simd_ge(zero) & e2.simd_ge(zero) & (e1 + e2).simd_gt(zero),
+                squared(p, along(b, sub(c, b), e1 / (e1 + e2))),
+            ),
+            (
+                sum.simd_gt(zero),
+                squared(p, along(along(a, ab, vb / sum), ac, vc / sum)),
+            ),
+        ];
+        let mut out = f32x8::splat(f32::NAN);
+        let mut taken = f32x8::ZERO.simd_gt(zero);
+        for (mask, value) in regions.iter().rev() {
+            out = mask.select(*value, out);
+            taken |= *mask;
+        }
+        let mut out = out.to_array();
+        let mut rest = !taken.to_bitmask() & ((1 << SKIP_BLOCK) - 1);
+        while rest != 0 {
+            let j = rest.trailing_zeros() as usize;
+            rest &= rest - 1;
+            let lane = |x: &[[f32; SKIP_BLOCK]; 3]| [x[0][j], x[1][j], x[2][j]];
+            let corner = lane(&self.corner);
+            out[j] = point_triangle_distance_squared(
+                [corner[0] + step, corner[1], corner[2]],
+                lane(&self.a),
+                lane(&self.b),
+                lane(&self.c),
+            );
+        }
+        out
+    }
+}
+
 impl NearBlock {
     const EMPTY: Self = Self {
         across: [f32::INFINITY; SKIP_BLOCK],
@@ -142,6 +251,9 @@ struct Scratch {
     blocks: Vec<NearBlock>,
     bounds: Vec<f32x8>,
     least: Vec<f32>,
+    /// The near triangles' vertices for the exact test, filled block by block when a block is
+    /// first tested in the current chunk (most blocks never are).
+    exact: Vec<Option<TriangleBlock>>,
 }
 
 /// One closure call per tile; the results are then placed at their chunks' output offsets.
@@ -338,6 +450,8 @@ fn tile_nearest(
         let blocks = g.blocks.len();
         g.bounds.resize(blocks, f32x8::ZERO);
         g.least.resize(blocks, 0.0);
+        g.exact.clear();
+        g.exact.resize(blocks, None);
         let mut hint = None;
         for i in 0..c.len as i32 {
             let step = i as f32;
@@ -371,14 +485,21 @@ fn tile_nearest(
                         continue;
                     }
                     let lower = bounds.to_array();
-                    for (j, &lower) in lower.iter().enumerate() {
-                        let k = b * SKIP_BLOCK + j;
-                        if lower < best && k != first {
-                            let d = tree.triangles()[g.near[k] as usize].distance_squared(corner);
-                            if d < best {
-                                best = d;
-                                found = Some(k);
+                    let exact = g.exact[b]
+                        .get_or_insert_with(|| {
+                            let mut block = TriangleBlock::EMPTY;
+                            let slots = g.near.iter().skip(b * SKIP_BLOCK).take(SKIP_BLOCK);
+                            for (j, &slot) in slots.enumerate() {
+                                block.set(j, &tree.triangles()[slot as usize], c.first);
                             }
+                            block
+                        })
+                        .exact(step);
+                    for (j, (&lower, &d)) in lower.iter().zip(&exact).enumerate() {
+                        let k = b * SKIP_BLOCK + j;
+                        if lower < best && k != first && d < best {
+                            best = d;
+                            found = Some(k);
                         }
                     }
                 }
