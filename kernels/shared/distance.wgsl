@@ -61,7 +61,7 @@ struct BandTile {
     count: u32,
 }
 
-// Most triangles gathered for one tile (`GATHER_CAPACITY` in src/grid/distance.rs).
+// Most triangles gathered for one tile (the CPU twin, src/grid/distance_cpu.rs, gathers more).
 const GATHER_CAPACITY: u32 = 256u;
 
 // Allowance for rounding in the plane lower bound, in cells (`PLANE_SLACK` in src/grid/distance_cpu.rs).

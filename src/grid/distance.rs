@@ -152,10 +152,6 @@ const GPU_CHUNK_LEN: i32 = 4;
 /// Rows of a tile along y and along z.
 pub(crate) const TILE_ROWS: i32 = 2;
 
-/// Most triangles gathered for one tile (the kernel's private array); a tile near more falls
-/// back to one tree search per corner.
-pub(crate) const GATHER_CAPACITY: usize = 256;
-
 /// Corners `first + (i, 0, 0)` for `i < len`, whose results go to `out + i`: the part of one row of
 /// candidate corners that lies in one tile.
 ///

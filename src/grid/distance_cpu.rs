@@ -14,8 +14,14 @@
 use rayon::prelude::*;
 use wide::f32x8;
 
-use super::distance::{BandChunk, BandTile, GATHER_CAPACITY, Nearest};
+use super::distance::{BandChunk, BandTile, Nearest};
 use super::triangle_tree::{TreeTriangle, TriangleTree, point_triangle_distance_squared};
+
+/// Most triangles gathered for one tile; a tile near more searches the tree once per corner. The
+/// kernel's private array holds 256 (`kernels/shared/distance.wgsl`); here the vector bounds and
+/// tests make a longer list cheaper than that fallback (benchmark band, one thread: 213 ms with
+/// 256, 200 ms with 384, 201 ms with 512).
+const GATHER_CAPACITY: usize = 384;
 
 /// Triangles whose bounds are computed and tested together: the lists are kept in blocks of this
 /// many, padded with entries whose bound is infinite, so each operation of a bound runs on a whole
