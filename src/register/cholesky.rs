@@ -12,6 +12,8 @@
 //! fails too is the non-positive pivot reported (the caller then adds damping). The single-precision
 //! work runs with subnormals flushed to zero (see `flush`).
 
+use std::sync::Arc;
+
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltError;
 use faer::sparse::linalg::cholesky::{
@@ -34,7 +36,8 @@ enum Precision {
 
 /// A reusable factorization of matrices with one fixed pattern.
 pub struct Cholesky {
-    symbolic: SymbolicCholesky<u32>,
+    /// Shared with [`Cholesky::sibling`]s.
+    symbolic: Arc<SymbolicCholesky<u32>>,
     /// `1/√h_ii`: the factor is of `S H S`.
     scaling: Vec<f64>,
     scaled: Vec<f32>,
@@ -67,6 +70,26 @@ impl Cholesky {
             CholeskySymbolicParams::default(),
         )
         .map_err(|e| RegisterError::Factorization(format!("symbolic analysis: {e:?}")))?;
+        Self::with_symbolic(Arc::new(symbolic), n, pattern.row_idx.len(), par)
+    }
+
+    /// A second factorization of the same pattern, with buffers of its own: the coarse stage
+    /// factors the next stage's matrix into one while it still solves with the other.
+    pub fn sibling(&self) -> Result<Self, RegisterError> {
+        Self::with_symbolic(
+            Arc::clone(&self.symbolic),
+            self.scaling.len(),
+            self.scaled.len(),
+            self.par,
+        )
+    }
+
+    fn with_symbolic(
+        symbolic: Arc<SymbolicCholesky<u32>>,
+        n: usize,
+        nonzeros: usize,
+        par: Par,
+    ) -> Result<Self, RegisterError> {
         let factor_scratch = MemBuffer::try_new(StackReq::or(
             symbolic.factorize_numeric_llt_scratch::<f32>(par, Default::default()),
             symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
@@ -81,7 +104,7 @@ impl Cholesky {
         Ok(Self {
             symbolic,
             scaling: vec![1.0; n],
-            scaled: vec![0.0; pattern.row_idx.len()],
+            scaled: vec![0.0; nonzeros],
             single,
             double: Vec::new(),
             rhs: vec![0.0; n],

@@ -8,9 +8,11 @@
 //! from the deformed surface after every step (non-rigid ICP, Li et al. 2009). Within a stage a
 //! vertex's correspondence is replaced only when the new one fits the vertex better, so the
 //! stage's energy can only fall (every term is then no larger than before); each new stage starts
-//! from a complete fresh projection.
+//! from a complete fresh projection. From a stage's second iteration on, the next stage's matrix
+//! is factored on the other core while the iteration runs, and preconditions that stage.
 
-use std::time::Instant;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use faer::Par;
 use faer::linalg::cholesky::llt::factor::LltError;
@@ -63,15 +65,19 @@ fn fit_samples(surface: &Surface, spacing: f32) -> Vec<u32> {
 /// [`factor`](CoarseSolver::factor) and [`solve`](CoarseSolver::solve) are its sub-steps, each of
 /// which can be repeated at the current state (benchmarks time them one by one).
 pub struct CoarseSolver<'a> {
-    correspond: Box<dyn Correspond + 'a>,
+    correspond: Box<dyn Correspond + Send + 'a>,
     surface: Surface,
     options: CoarseOptions,
     samples: Vec<u32>,
     /// Graph over the samples (the energy) and over every vertex (the output).
     model: Model,
     whole: Model,
-    pattern: Pattern,
+    pattern: Arc<Pattern>,
     cholesky: Cholesky,
+    /// The next stage's factor, computed while this stage takes its last iterations.
+    next: Option<Prepared>,
+    /// A factorization's buffers not in use, for the next stage's factor.
+    spare: Option<Cholesky>,
     refactor_after: usize,
     weights: CoarseWeights,
     x: Vec<f64>,
@@ -124,7 +130,7 @@ impl<'a> CoarseSolver<'a> {
 
     /// The coarse stage of `surface` with `graph` against any correspondence source.
     pub(crate) fn with(
-        correspond: Box<dyn Correspond + 'a>,
+        correspond: Box<dyn Correspond + Send + 'a>,
         surface: Surface,
         graph: &DeformationGraph,
         options: &CoarseOptions,
@@ -177,8 +183,10 @@ impl<'a> CoarseSolver<'a> {
             delta: vec![0.0; n],
             model,
             whole,
-            pattern,
+            pattern: Arc::new(pattern),
             cholesky,
+            next: None,
+            spare: None,
             refactor_after,
             x,
             deformed,
@@ -247,13 +255,18 @@ impl<'a> CoarseSolver<'a> {
         self.assemble_matrix();
     }
 
-    fn assemble_gradient(&mut self) {
+    /// Each sample's fit matrix for its current correspondence (zero without one).
+    fn fit_matrices(&self) -> Vec<[[f64; 3]; 3]> {
         let w = &self.weights;
-        self.fit = self
-            .current
+        self.current
             .iter()
             .map(|c| c.map_or([[0.0; 3]; 3], |c| w.fit_matrix(c.normal)))
-            .collect();
+            .collect()
+    }
+
+    fn assemble_gradient(&mut self) {
+        self.fit = self.fit_matrices();
+        let w = &self.weights;
         let pulls = fit_pulls(&self.deformed, &self.current, w);
         let g = gradient(&self.model, &self.x, &pulls, w);
         self.rhs.iter_mut().zip(&g).for_each(|(r, g)| *r = -g);
@@ -269,12 +282,7 @@ impl<'a> CoarseSolver<'a> {
             &w,
             &mut self.values,
         );
-        let n = self.pattern.dimension();
-        let mean = (0..n)
-            .map(|c| self.values[self.pattern.col_ptr[c + 1] as usize - 1])
-            .sum::<f64>()
-            / n.max(1) as f64;
-        self.scale = if mean > 0.0 { mean } else { 1.0 };
+        self.scale = mean_diagonal(&self.pattern, &self.values);
     }
 
     /// Numeric factorization of the assembled matrix plus the current damping; a non-positive
@@ -404,7 +412,7 @@ impl<'a> CoarseSolver<'a> {
                 iterations: Vec::new(),
                 converged: false,
             };
-            self.stale = true;
+            self.take_prepared();
             while stage.iterations.len() < self.options.max_stage_iterations {
                 let mut times = StepTimes {
                     correspondence: std::mem::take(&mut pending),
@@ -413,7 +421,11 @@ impl<'a> CoarseSolver<'a> {
                 self.factorizations = 0;
                 self.retries = 0;
                 let mut cg_iterations = 0;
-                let outcome = self.iterate(e, &mut times, &mut cg_iterations)?;
+                let outcome = if stage.iterations.is_empty() {
+                    self.iterate(e, &mut times, &mut cg_iterations)?
+                } else {
+                    self.iterate_preparing_next(e, &mut times, &mut cg_iterations)?
+                };
                 let damping = match outcome {
                     Outcome::Accepted { damping } => damping,
                     Outcome::Converged => {
@@ -472,6 +484,85 @@ impl<'a> CoarseSolver<'a> {
         Ok(self.report.clone())
     }
 
+    /// The `α_reg` of the stage after this one, if there is one.
+    fn next_alpha(&self) -> Option<f64> {
+        let floor = self.options.alpha_reg_floor;
+        (self.weights.reg > floor * (1.0 + 1e-9)).then(|| (self.weights.reg / 10.0).max(floor))
+    }
+
+    /// Starts a stage: with the factor prepared for its `α_reg` if there is one (the state it was
+    /// taken at differs from this one by the previous stage's last, small steps, so it still
+    /// preconditions well; a poor one is refreshed after `refactor_after` iterations), else with a
+    /// fresh factorization.
+    fn take_prepared(&mut self) {
+        self.stale = true;
+        if let Some(prepared) = self.next.take() {
+            if prepared.alpha_reg == self.weights.reg {
+                let used = std::mem::replace(&mut self.cholesky, prepared.cholesky);
+                self.spare = Some(used);
+                self.scale = prepared.scale;
+                self.stale = false;
+            } else {
+                self.spare = Some(prepared.cholesky);
+            }
+        }
+    }
+
+    /// [`CoarseSolver::iterate`], while the other core factors the next stage's matrix at the
+    /// current state. A stage's first iteration moves far, its later ones little, and the stage
+    /// ends when one moves too little; so from the second iteration on, the state is nearly the
+    /// one the next stage starts from. The sparse factorization runs on one core (see `with`), so
+    /// this takes it off the critical path.
+    fn iterate_preparing_next(
+        &mut self,
+        e: f64,
+        times: &mut StepTimes,
+        cg_iterations: &mut usize,
+    ) -> Result<Outcome, RegisterError> {
+        let Some(alpha_reg) = self.next_alpha() else {
+            return self.iterate(e, times, cg_iterations);
+        };
+        if self.next.is_some() || self.refactor_after == 0 {
+            return self.iterate(e, times, cg_iterations);
+        }
+        let t = Instant::now();
+        let cholesky = match self.spare.take() {
+            Some(c) => c,
+            None => self.cholesky.sibling()?,
+        };
+        let weights = CoarseWeights {
+            reg: alpha_reg,
+            ..self.weights
+        };
+        let mut values = vec![0.0; self.pattern.row_idx.len()];
+        assemble(
+            &self.pattern,
+            &self.model,
+            &self.x,
+            &self.fit_matrices(),
+            &weights,
+            &mut values,
+        );
+        let job = NextFactor {
+            pattern: Arc::clone(&self.pattern),
+            scale: mean_diagonal(&self.pattern, &values),
+            lambda: self.lambda,
+            values,
+            alpha_reg,
+            cholesky,
+        };
+        times.assembly += t.elapsed();
+        let ((prepared, factor_time), outcome) =
+            rayon::join(move || job.run(), || self.iterate(e, times, cg_iterations));
+        times.factorization += factor_time;
+        self.factorizations += 1;
+        match prepared {
+            Ok(prepared) => self.next = Some(prepared),
+            Err(cholesky) => self.spare = Some(cholesky),
+        }
+        outcome
+    }
+
     /// One damped Gauss-Newton step from the current state (energy `e`).
     fn iterate(
         &mut self,
@@ -518,6 +609,52 @@ impl<'a> CoarseSolver<'a> {
                 return Ok(Outcome::Stuck);
             }
         }
+    }
+}
+
+/// The mean diagonal of the matrix whose upper triangle is `values`: the scale of damping.
+fn mean_diagonal(pattern: &Pattern, values: &[f64]) -> f64 {
+    let n = pattern.dimension();
+    let mean = (0..n)
+        .map(|c| values[pattern.col_ptr[c + 1] as usize - 1])
+        .sum::<f64>()
+        / n.max(1) as f64;
+    if mean > 0.0 { mean } else { 1.0 }
+}
+
+/// A factor ready for the stage with `alpha_reg`, and the damping scale of its matrix.
+struct Prepared {
+    alpha_reg: f64,
+    scale: f64,
+    cholesky: Cholesky,
+}
+
+/// The next stage's matrix, to be factored into `cholesky` beside the current iteration.
+struct NextFactor {
+    pattern: Arc<Pattern>,
+    values: Vec<f64>,
+    scale: f64,
+    lambda: f64,
+    alpha_reg: f64,
+    cholesky: Cholesky,
+}
+
+impl NextFactor {
+    /// The prepared factor, or the buffers back when a pivot is not positive (the stage then
+    /// factors, and damps, as usual); and the time it took.
+    fn run(mut self) -> (Result<Prepared, Cholesky>, Duration) {
+        let t = Instant::now();
+        let mut damped = Vec::new();
+        damp(&self.pattern, &self.values, self.lambda, &mut damped);
+        let result = match self.cholesky.factor(&self.pattern, &damped) {
+            Ok(()) => Ok(Prepared {
+                alpha_reg: self.alpha_reg,
+                scale: self.scale,
+                cholesky: self.cholesky,
+            }),
+            Err(_) => Err(self.cholesky),
+        };
+        (result, t.elapsed())
     }
 }
 

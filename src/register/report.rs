@@ -10,7 +10,8 @@ pub struct StepTimes {
     pub correspondence: Duration,
     /// `JᵀJ` and `Jᵀr`.
     pub assembly: Duration,
-    /// Numeric Cholesky factorizations (every damping retry included).
+    /// Numeric Cholesky factorizations (every damping retry included, and the next stage's factor
+    /// when it was computed beside this iteration, on the other core).
     pub factorization: Duration,
     /// Triangular solves.
     pub solve: Duration,
