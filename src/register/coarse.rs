@@ -31,7 +31,7 @@ use super::options::{CoarseOptions, LinearSolver, RegisterOptions};
 use super::pattern::{Coupling, Pattern};
 use super::pcg::pcg;
 use super::report::{CoarseReport, IterationReport, StageReport, StepTimes};
-use super::rigid::{node_unknowns, prealign};
+use super::rigid::{Rigid, node_unknowns, prealign};
 use super::surface::Surface;
 use crate::compute::Backend;
 use crate::mesh::IndexedMesh;
@@ -79,6 +79,8 @@ pub struct CoarseSolver<'a> {
     /// A factorization's buffers not in use, for the next stage's factor.
     spare: Option<Cholesky>,
     refactor_after: usize,
+    /// Where [`CoarseSolver::run`] starts every node from.
+    rigid: Option<RigidStart>,
     weights: CoarseWeights,
     x: Vec<f64>,
     deformed: Vec<DVec3>,
@@ -114,29 +116,50 @@ impl<'a> CoarseSolver<'a> {
             return Err(RegisterError::NoScale { which: "source" });
         }
         let surface = Surface::new(&source.positions, &source.triangles, unit);
-        let graph = DeformationGraph::from_adjacency(
-            &source.positions,
-            &surface.adjacency,
-            options.graph.spacing * unit,
-            options.graph.skinning_nodes,
-        );
         let projector = Projector {
             backend,
             bvh,
             max_angle_degrees: options.max_angle_degrees,
         };
-        Self::with(Box::new(projector), surface, &graph, &options.coarse)
+        // The graph's nearest-node search is one sequential Dijkstra; the rigid pre-alignment
+        // needs only the samples, so it runs beside it.
+        let (graph, start) = rayon::join(
+            || {
+                DeformationGraph::from_adjacency(
+                    &source.positions,
+                    &surface.adjacency,
+                    options.graph.spacing * unit,
+                    options.graph.skinning_nodes,
+                )
+            },
+            || {
+                let samples = fit_samples(&surface, options.coarse.sample_spacing);
+                rigid_start(&projector, &surface, &samples, &options.coarse)
+                    .map(|rigid| (samples, rigid))
+            },
+        );
+        let (samples, rigid) = start?;
+        Self::from_parts(
+            Box::new(projector),
+            surface,
+            &graph,
+            samples,
+            rigid,
+            &options.coarse,
+        )
     }
 
-    /// The coarse stage of `surface` with `graph` against any correspondence source.
-    pub(crate) fn with(
+    /// The coarse stage of `surface` with `graph`, its fit samples and its rigid start, against
+    /// any correspondence source.
+    fn from_parts(
         correspond: Box<dyn Correspond + Send + 'a>,
         surface: Surface,
         graph: &DeformationGraph,
+        samples: Vec<u32>,
+        rigid: Option<RigidStart>,
         options: &CoarseOptions,
     ) -> Result<Self, RegisterError> {
         let setup = Instant::now();
-        let samples = fit_samples(&surface, options.sample_spacing);
         let all: Vec<u32> = (0..surface.rest.len() as u32).collect();
         let model = Model::new(graph, &surface.rest, &samples, &surface.units);
         let whole = Model::new(graph, &surface.rest, &all, &surface.units);
@@ -188,6 +211,7 @@ impl<'a> CoarseSolver<'a> {
             next: None,
             spare: None,
             refactor_after,
+            rigid,
             x,
             deformed,
             lambda: 0.0,
@@ -364,42 +388,20 @@ impl<'a> CoarseSolver<'a> {
         energy(&self.model, &self.x, &self.deformed, &self.current, w).total(w)
     }
 
-    /// Rigid ICP of the samples from the current state's rest pose; every node then starts from the
-    /// rigid motion found.
-    fn prealign(&mut self) -> Result<(), RegisterError> {
-        let t = Instant::now();
-        let rest: Vec<DVec3> = self
-            .samples
-            .iter()
-            .map(|&v| self.surface.rest[v as usize])
-            .collect();
-        let normals = self
-            .surface
-            .faces
-            .normals_of(&self.surface.rest, &self.samples);
-        let (correspond, units) = (self.correspond.as_ref(), &self.surface.units);
-        let max_distance = self.options.max_distance;
-        let (pose, report) = prealign(
-            &rest,
-            &normals,
-            self.weights.plane,
-            self.weights.point,
-            self.options.rigid_iterations,
-            |points, normals| targets(correspond, units, points, normals, max_distance),
-        )?;
-        self.x = node_unknowns(&pose, &self.model.nodes);
-        self.deformed = self.model.deform(&self.x);
-        self.report.rigid_energies = report.energies;
-        self.report.rigid_time = t.elapsed();
-        Ok(())
+    /// Every node at the rigid pre-alignment's motion.
+    fn prealign(&mut self) {
+        if let Some(start) = &self.rigid {
+            self.x = node_unknowns(&start.pose, &self.model.nodes);
+            self.deformed = self.model.deform(&self.x);
+            self.report.rigid_energies = start.energies.clone();
+            self.report.rigid_time = start.time;
+        }
     }
 
     /// The whole schedule: rigid pre-alignment, then stages of Gauss-Newton iterations from
     /// `α_reg` start down to the floor.
     pub fn run(&mut self) -> Result<CoarseReport, RegisterError> {
-        if self.options.rigid_iterations > 0 {
-            self.prealign()?;
-        }
+        self.prealign();
         let t = Instant::now();
         let mut fresh = self.fresh()?;
         let mut pending = t.elapsed();
@@ -610,6 +612,49 @@ impl<'a> CoarseSolver<'a> {
             }
         }
     }
+}
+
+/// The rigid pre-alignment: its motion, the fit energy of each pose it took and its time.
+struct RigidStart {
+    pose: Rigid,
+    energies: Vec<f64>,
+    time: Duration,
+}
+
+/// Rigid ICP of `samples` from `surface`'s rest pose (none for `rigid_iterations` 0).
+fn rigid_start(
+    correspond: &dyn Correspond,
+    surface: &Surface,
+    samples: &[u32],
+    options: &CoarseOptions,
+) -> Result<Option<RigidStart>, RegisterError> {
+    if options.rigid_iterations == 0 {
+        return Ok(None);
+    }
+    let t = Instant::now();
+    let rest: Vec<DVec3> = samples.iter().map(|&v| surface.rest[v as usize]).collect();
+    let normals = surface.faces.normals_of(&surface.rest, samples);
+    let (pose, report) = prealign(
+        &rest,
+        &normals,
+        options.plane_weight,
+        options.point_weight,
+        options.rigid_iterations,
+        |points, normals| {
+            targets(
+                correspond,
+                &surface.units,
+                points,
+                normals,
+                options.max_distance,
+            )
+        },
+    )?;
+    Ok(Some(RigidStart {
+        pose,
+        energies: report.energies,
+        time: t.elapsed(),
+    }))
 }
 
 /// The mean diagonal of the matrix whose upper triangle is `values`: the scale of damping.

@@ -81,7 +81,8 @@ pub struct CoarseReport {
     pub factor_nonzeros: usize,
     /// Sparsity pattern and symbolic factorization (done once).
     pub setup: Duration,
-    /// Fit energy of each pose of the rigid pre-alignment (falling), and its time.
+    /// Fit energy of each pose of the rigid pre-alignment (falling), and its time (it runs beside
+    /// the graph build, within the registration's setup).
     pub rigid_energies: Vec<f64>,
     pub rigid_time: Duration,
     pub stages: Vec<StageReport>,
