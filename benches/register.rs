@@ -7,7 +7,8 @@
 //!   `assembly` (`Jᵀr` and the matrix), `factorization` (faer numeric Cholesky), `solve`
 //!   (conjugate gradients preconditioned by that factor), for the default solver (graph-pattern
 //!   preconditioner) and for `exact` (`JᵀJ` itself factored, the paper's method).
-//! - `register/stage/<size>`: the whole coarse stage (`CoarseSolver::run`, setup excluded), the
+//! - `register/stage/<size>`: the whole coarse stage (`CoarseSolver::run`; setup, and the rigid
+//!   pre-alignment that runs beside the graph build there, excluded), the
 //!   whole fine stage (`fine_align` from the source), and `register` end to end (BVH, setup, both
 //!   stages) on the CPU and, where an adapter exists, with projection on the GPU.
 //!
