@@ -102,51 +102,38 @@ pub struct CoarseSolver<'a> {
 
 impl<'a> CoarseSolver<'a> {
     /// Sets up the coarse stage of `source` against the target behind `bvh`, projecting on
-    /// `backend`: deformation graph, sparsity pattern and symbolic factorization.
+    /// `backend`: deformation graph, rigid pre-alignment, sparsity pattern and symbolic
+    /// factorization.
     pub fn new(
         backend: &'a Backend,
         bvh: &'a Bvh,
         source: &IndexedMesh,
         options: &RegisterOptions,
     ) -> Result<Self, RegisterError> {
-        options.check()?;
-        check_indices(source, "source")?;
-        let unit = source.mean_edge_length();
-        if !(unit.is_finite() && unit > 0.0) {
-            return Err(RegisterError::NoScale { which: "source" });
-        }
-        let surface = Surface::new(&source.positions, &source.triangles, unit);
         let projector = Projector {
             backend,
             bvh,
             max_angle_degrees: options.max_angle_degrees,
         };
-        // The graph's nearest-node search is one sequential Dijkstra; the rigid pre-alignment
-        // needs only the samples, so it runs beside it.
-        let (graph, start) = rayon::join(
-            || {
-                DeformationGraph::from_adjacency(
-                    &source.positions,
-                    &surface.adjacency,
-                    options.graph.spacing * unit,
-                    options.graph.skinning_nodes,
-                )
-            },
-            || {
-                let samples = fit_samples(&surface, options.coarse.sample_spacing);
-                rigid_start(&projector, &surface, &samples, &options.coarse)
-                    .map(|rigid| (samples, rigid))
-            },
-        );
-        let (samples, rigid) = start?;
-        Self::from_parts(
-            Box::new(projector),
+        let (setup, rigid) = Setup::build(source, options, |surface, samples| {
+            rigid_start(&projector, surface, samples, &options.coarse)
+        })?;
+        Self::from_setup(Box::new(projector), setup, rigid?, &options.coarse)
+    }
+
+    /// The coarse stage of `setup` starting from `rigid`, against any correspondence source.
+    pub(crate) fn from_setup(
+        correspond: Box<dyn Correspond + Send + 'a>,
+        setup: Setup,
+        rigid: Option<RigidStart>,
+        options: &CoarseOptions,
+    ) -> Result<Self, RegisterError> {
+        let Setup {
             surface,
-            &graph,
+            graph,
             samples,
-            rigid,
-            &options.coarse,
-        )
+        } = setup;
+        Self::from_parts(correspond, surface, &graph, samples, rigid, options)
     }
 
     /// The coarse stage of `surface` with `graph`, its fit samples and its rigid start, against
@@ -613,15 +600,65 @@ impl<'a> CoarseSolver<'a> {
     }
 }
 
+/// What a coarse stage is built on: the source's surface, its deformation graph and the vertices
+/// carrying `E_fit`.
+pub(crate) struct Setup {
+    surface: Surface,
+    graph: DeformationGraph,
+    samples: Vec<u32>,
+}
+
+impl Setup {
+    /// The setup of `source`, and `beside(surface, samples)`, which runs while the graph is built:
+    /// the graph's nearest-node search is one sequential Dijkstra, and the rigid pre-alignment (and
+    /// whatever it waits for, such as the target's tree) needs only the samples.
+    pub(crate) fn build<R: Send>(
+        source: &IndexedMesh,
+        options: &RegisterOptions,
+        beside: impl FnOnce(&Surface, &[u32]) -> R + Send,
+    ) -> Result<(Self, R), RegisterError> {
+        options.check()?;
+        check_indices(source, "source")?;
+        let unit = source.mean_edge_length();
+        if !(unit.is_finite() && unit > 0.0) {
+            return Err(RegisterError::NoScale { which: "source" });
+        }
+        let surface = Surface::new(&source.positions, &source.triangles, unit);
+        let (graph, (samples, result)) = rayon::join(
+            || {
+                DeformationGraph::from_adjacency(
+                    &source.positions,
+                    &surface.adjacency,
+                    options.graph.spacing * unit,
+                    options.graph.skinning_nodes,
+                )
+            },
+            || {
+                let samples = fit_samples(&surface, options.coarse.sample_spacing);
+                let result = beside(&surface, &samples);
+                (samples, result)
+            },
+        );
+        Ok((
+            Self {
+                surface,
+                graph,
+                samples,
+            },
+            result,
+        ))
+    }
+}
+
 /// The rigid pre-alignment: its motion, the fit energy of each pose it took and its time.
-struct RigidStart {
+pub(crate) struct RigidStart {
     pose: Rigid,
     energies: Vec<f64>,
     time: Duration,
 }
 
 /// Rigid ICP of `samples` from `surface`'s rest pose (none for `rigid_iterations` 0).
-fn rigid_start(
+pub(crate) fn rigid_start(
     correspond: &dyn Correspond,
     surface: &Surface,
     samples: &[u32],

@@ -36,6 +36,7 @@ use std::time::{Duration, Instant};
 use glam::Vec3;
 
 pub use coarse::CoarseSolver;
+use coarse::{Setup, rigid_start};
 pub use error::RegisterError;
 pub use graph::{DeformationGraph, GraphOptions};
 pub use options::{CoarseOptions, FineOptions, LinearSolver, RegisterOptions};
@@ -95,15 +96,37 @@ pub fn register(
     options: &RegisterOptions,
 ) -> Result<RegistrationReport, RegisterError> {
     let total = Instant::now();
-    let bvh = Bvh::build(target).map_err(|e| match e {
-        ProjectError::Target(source) => RegisterError::Mesh {
-            which: "target",
-            source,
-        },
-        other => RegisterError::Correspondence(other.to_string()),
+    let slots: Vec<VertexId> = mesh.vertices().collect();
+    let source = mesh.to_indexed();
+    let t = Instant::now();
+    // The target's tree and, on it, the rigid pre-alignment are built while the graph is.
+    let (setup, beside) = Setup::build(&source, options, |surface, samples| {
+        let t = Instant::now();
+        let bvh = Bvh::build(target).map_err(|e| match e {
+            ProjectError::Target(source) => RegisterError::Mesh {
+                which: "target",
+                source,
+            },
+            other => RegisterError::Correspondence(other.to_string()),
+        })?;
+        let bvh_time = t.elapsed();
+        check_scale(&bvh)?;
+        let projector = Projector {
+            backend,
+            bvh: &bvh,
+            max_angle_degrees: options.max_angle_degrees,
+        };
+        let rigid = rigid_start(&projector, surface, samples, &options.coarse)?;
+        Ok::<_, RegisterError>((bvh, bvh_time, rigid))
     })?;
-    let bvh_time = total.elapsed();
-    let mut report = register_onto(backend, mesh, &bvh, options)?;
+    let (bvh, bvh_time, rigid) = beside?;
+    let projector = Projector {
+        backend,
+        bvh: &bvh,
+        max_angle_degrees: options.max_angle_degrees,
+    };
+    let coarse = CoarseSolver::from_setup(Box::new(projector), setup, rigid, &options.coarse)?;
+    let mut report = finish(backend, mesh, &slots, &bvh, coarse, t.elapsed(), options)?;
     report.bvh_time = bvh_time;
     report.total_time = total.elapsed();
     Ok(report)
@@ -121,12 +144,33 @@ pub fn register_onto(
     options.check()?;
     let slots: Vec<VertexId> = mesh.vertices().collect();
     let source = mesh.to_indexed();
-    if !(bvh.mean_edge_length().is_finite() && bvh.mean_edge_length() > 0.0) {
-        return Err(RegisterError::NoScale { which: "target" });
-    }
+    check_scale(bvh)?;
     let t = Instant::now();
-    let mut coarse = CoarseSolver::new(backend, bvh, &source, options)?;
-    let setup_time = t.elapsed();
+    let coarse = CoarseSolver::new(backend, bvh, &source, options)?;
+    let mut report = finish(backend, mesh, &slots, bvh, coarse, t.elapsed(), options)?;
+    report.total_time = total.elapsed();
+    Ok(report)
+}
+
+fn check_scale(bvh: &Bvh) -> Result<(), RegisterError> {
+    if bvh.mean_edge_length().is_finite() && bvh.mean_edge_length() > 0.0 {
+        Ok(())
+    } else {
+        Err(RegisterError::NoScale { which: "target" })
+    }
+}
+
+/// The coarse stage's schedule, then the fine stage, written back to `mesh` (whose vertices
+/// `slots` lists); `setup_time` is what setting up `coarse` took.
+fn finish(
+    backend: &Backend,
+    mesh: &mut Mesh,
+    slots: &[VertexId],
+    bvh: &Bvh,
+    mut coarse: CoarseSolver,
+    setup_time: Duration,
+    options: &RegisterOptions,
+) -> Result<RegistrationReport, RegisterError> {
     let t = Instant::now();
     let coarse_report = coarse.run()?;
     let coarse_time = t.elapsed();
@@ -148,13 +192,13 @@ pub fn register_onto(
         mesh.set_position(slot, surface.units.to_world(p));
     }
     Ok(RegistrationReport {
-        vertices: source.positions.len(),
+        vertices: slots.len(),
         coarse: coarse_report,
         fine: fine_report,
         bvh_time: Duration::ZERO,
         setup_time,
         coarse_time,
         fine_time,
-        total_time: total.elapsed(),
+        total_time: Duration::ZERO,
     })
 }

@@ -128,9 +128,10 @@ pub struct RegistrationReport {
     pub vertices: usize,
     pub coarse: CoarseReport,
     pub fine: FineReport,
-    /// Target BVH.
+    /// Target BVH (built beside the deformation graph, so within `setup_time`).
     pub bvh_time: Duration,
-    /// Deformation graph, sparsity pattern and symbolic factorization.
+    /// Deformation graph, with the target BVH and the rigid pre-alignment beside it, then the
+    /// sparsity pattern and the symbolic factorization.
     pub setup_time: Duration,
     pub coarse_time: Duration,
     pub fine_time: Duration,
