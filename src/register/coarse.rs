@@ -500,8 +500,8 @@ impl<'a> CoarseSolver<'a> {
     /// [`CoarseSolver::iterate`], while the other core factors the next stage's matrix at the
     /// current state. A stage's first iteration moves far, its later ones little, and the stage
     /// ends when one moves too little; so from the second iteration on, the state is nearly the
-    /// one the next stage starts from. The sparse factorization runs on one core (see `from_parts`), so
-    /// this takes it off the critical path.
+    /// one the next stage starts from. The sparse factorization runs on one core (see
+    /// `from_parts`), so this takes it off the critical path.
     fn iterate_preparing_next(
         &mut self,
         e: f64,
