@@ -133,23 +133,10 @@ impl<'a> CoarseSolver<'a> {
             graph,
             samples,
         } = setup;
-        Self::from_parts(correspond, surface, &graph, samples, rigid, options)
-    }
-
-    /// The coarse stage of `surface` with `graph`, its fit samples and its rigid start, against
-    /// any correspondence source.
-    fn from_parts(
-        correspond: Box<dyn Correspond + Send + 'a>,
-        surface: Surface,
-        graph: &DeformationGraph,
-        samples: Vec<u32>,
-        rigid: Option<RigidStart>,
-        options: &CoarseOptions,
-    ) -> Result<Self, RegisterError> {
-        let setup = Instant::now();
+        let started = Instant::now();
         let all: Vec<u32> = (0..surface.rest.len() as u32).collect();
-        let model = Model::new(graph, &surface.rest, &samples, &surface.units);
-        let whole = Model::new(graph, &surface.rest, &all, &surface.units);
+        let model = Model::new(&graph, &surface.rest, &samples, &surface.units);
+        let whole = Model::new(&graph, &surface.rest, &all, &surface.units);
         let (coupling, refactor_after) = match options.solver {
             LinearSolver::Cholesky => (Coupling::Full, 0),
             LinearSolver::PreconditionedCg { refactor_after } => (Coupling::Graph, refactor_after),
@@ -167,7 +154,7 @@ impl<'a> CoarseSolver<'a> {
             unknowns: model.unknowns(),
             matrix_nonzeros: pattern.row_idx.len(),
             factor_nonzeros: cholesky.factor_nonzeros(),
-            setup: setup.elapsed(),
+            setup: started.elapsed(),
             converged: true,
             ..CoarseReport::default()
         };
@@ -501,7 +488,7 @@ impl<'a> CoarseSolver<'a> {
     /// current state. A stage's first iteration moves far, its later ones little, and the stage
     /// ends when one moves too little; so from the second iteration on, the state is nearly the
     /// one the next stage starts from. The sparse factorization runs on one core (see
-    /// `from_parts`), so this takes it off the critical path.
+    /// `from_setup`), so this takes it off the critical path.
     fn iterate_preparing_next(
         &mut self,
         e: f64,
