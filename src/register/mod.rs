@@ -141,7 +141,6 @@ pub fn register_onto(
     options: &RegisterOptions,
 ) -> Result<RegistrationReport, RegisterError> {
     let total = Instant::now();
-    options.check()?;
     let slots: Vec<VertexId> = mesh.vertices().collect();
     let source = mesh.to_indexed();
     check_scale(bvh)?;
