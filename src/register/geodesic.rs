@@ -250,21 +250,7 @@ mod tests {
     #[test]
     fn nearest_nodes_match_brute_force_dijkstra() {
         let (positions, adjacency) = grid(12, 7);
-        let nodes = [0u32, 17, 40, 77, 101];
-        let nearest = NearestNodes::search(&adjacency, &positions, &nodes, 3);
-        for v in 0..positions.len() {
-            let mut all: Vec<(u32, f32)> = nodes
-                .iter()
-                .enumerate()
-                .map(|(i, &s)| (i as u32, single_source(&adjacency, &positions, s)[v]))
-                .collect();
-            all.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-            let got = nearest.of(v);
-            assert_eq!(got.len(), 3);
-            for (g, e) in got.iter().zip(&all) {
-                assert!((g.1 - e.1).abs() < 1e-5, "vertex {v}: {got:?} vs {all:?}");
-            }
-        }
+        assert_matches_single_sources(&adjacency, &positions, &[0, 17, 40, 77, 101], 3);
     }
 
     #[test]
@@ -273,13 +259,23 @@ mod tests {
         let adjacency = VertexAdjacency::new(mesh.positions.len(), &mesh.triangles);
         let nodes = sample(&adjacency, &mesh.positions, 2.5 * mesh.mean_edge_length());
         assert!(nodes.len() > 20, "{} nodes", nodes.len());
-        let count = 5;
-        let nearest = NearestNodes::search(&adjacency, &mesh.positions, &nodes, count);
+        assert_matches_single_sources(&adjacency, &mesh.positions, &nodes, 5);
+    }
+
+    /// Every vertex's `count` labels have the distances of its `count` nearest nodes by a
+    /// separate search from each node, and each label's distance is its own node's.
+    fn assert_matches_single_sources(
+        adjacency: &VertexAdjacency,
+        positions: &[Vec3],
+        nodes: &[u32],
+        count: usize,
+    ) {
+        let nearest = NearestNodes::search(adjacency, positions, nodes, count);
         let distances: Vec<Vec<f32>> = nodes
             .iter()
-            .map(|&s| single_source(&adjacency, &mesh.positions, s))
+            .map(|&s| single_source(adjacency, positions, s))
             .collect();
-        for v in 0..mesh.positions.len() {
+        for v in 0..positions.len() {
             let mut all: Vec<f32> = distances.iter().map(|d| d[v]).collect();
             all.sort_by(f32::total_cmp);
             let got = nearest.of(v);
