@@ -86,7 +86,7 @@ pub struct MethodParams {
     #[arg(long, default_value_t = 1000.0)]
     pub alpha_reg: f64,
     /// Fine-stage correspondence cut-off σ in units of L (§4.2).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.5)]
     pub sigma: f64,
     /// Weight of the fine stage's cover term, which lets target regions no source normal ray
     /// reaches pull their nearest source points (0: the paper's one-sided fit).
