@@ -389,60 +389,29 @@ impl<'a> CoarseSolver<'a> {
                 converged: false,
             };
             self.take_prepared();
-            while stage.iterations.len() < self.options.max_stage_iterations {
-                let mut times = StepTimes {
-                    correspondence: std::mem::take(&mut pending),
-                    ..StepTimes::default()
-                };
-                self.factorizations = 0;
-                self.retries = 0;
-                let mut cg_iterations = 0;
-                let outcome = self.iterate_preparing_next(e, &mut times, &mut cg_iterations)?;
-                let damping = match outcome {
-                    Outcome::Accepted { damping } => damping,
-                    Outcome::Converged => {
-                        stage.converged = true;
-                        break;
-                    }
-                    Outcome::Stuck => break,
-                };
-                let t = Instant::now();
-                fresh = self.fresh()?;
-                let replaced =
-                    keep_better(&mut self.current, &fresh, &self.deformed, &self.weights);
-                times.correspondence += t.elapsed();
-                let t = Instant::now();
-                let terms = energy(
-                    &self.model,
-                    &self.x,
-                    &self.deformed,
-                    &self.current,
-                    &self.weights,
-                );
-                times.evaluation += t.elapsed();
-                let after = terms.total(&self.weights);
-                let kept = self.current.iter().filter(|c| c.is_some()).count();
-                stage.iterations.push(IterationReport {
-                    energy_before: e,
-                    energy: after,
-                    fit: terms.fit,
-                    rigid: terms.rigid,
-                    smooth: terms.smooth,
-                    kept,
-                    pruned: self.current.len() - kept,
-                    replaced,
-                    damping,
-                    retries: self.retries,
-                    factorizations: self.factorizations,
-                    cg_iterations,
-                    times,
+            let t = Instant::now();
+            let ahead = self.next_factor()?;
+            let ahead_assembly = t.elapsed();
+            let prepared = std::thread::scope(|scope| {
+                let job = ahead.map(|job| scope.spawn(move || job.run()));
+                let iterated = self.stage_iterations(&mut stage, &mut e, &mut fresh, &mut pending);
+                let prepared = job.map(|handle| match handle.join() {
+                    Ok(done) => done,
+                    Err(panic) => std::panic::resume_unwind(panic),
                 });
-                self.report.times += times;
-                let relative = if e > 0.0 { (e - after) / e } else { 0.0 };
-                e = after;
-                if relative < self.options.relax_threshold {
-                    stage.converged = true;
-                    break;
+                iterated.map(|()| prepared)
+            })?;
+            if let Some((prepared, factor_time)) = prepared {
+                if let Some(first) = stage.iterations.first_mut() {
+                    first.times.assembly += ahead_assembly;
+                    first.times.factorization += factor_time;
+                    first.factorizations += 1;
+                }
+                self.report.times.assembly += ahead_assembly;
+                self.report.times.factorization += factor_time;
+                match prepared {
+                    Ok(prepared) => self.next = Some(prepared),
+                    Err(cholesky) => self.spare = Some(cholesky),
                 }
             }
             self.report.converged &= stage.converged;
@@ -454,6 +423,73 @@ impl<'a> CoarseSolver<'a> {
             self.weights.reg = (self.weights.reg / 10.0).max(floor);
         }
         Ok(self.report.clone())
+    }
+
+    /// The iterations of one stage, from energy `e` (updated as they go), until the energy stops
+    /// falling; `fresh` is the last projection and `pending` the time it took, not yet reported.
+    fn stage_iterations(
+        &mut self,
+        stage: &mut StageReport,
+        e: &mut f64,
+        fresh: &mut Vec<Option<FitTarget>>,
+        pending: &mut Duration,
+    ) -> Result<(), RegisterError> {
+        while stage.iterations.len() < self.options.max_stage_iterations {
+            let mut times = StepTimes {
+                correspondence: std::mem::take(pending),
+                ..StepTimes::default()
+            };
+            self.factorizations = 0;
+            self.retries = 0;
+            let mut cg_iterations = 0;
+            let outcome = self.iterate(*e, &mut times, &mut cg_iterations)?;
+            let damping = match outcome {
+                Outcome::Accepted { damping } => damping,
+                Outcome::Converged => {
+                    stage.converged = true;
+                    break;
+                }
+                Outcome::Stuck => break,
+            };
+            let t = Instant::now();
+            *fresh = self.fresh()?;
+            let replaced = keep_better(&mut self.current, fresh, &self.deformed, &self.weights);
+            times.correspondence += t.elapsed();
+            let t = Instant::now();
+            let terms = energy(
+                &self.model,
+                &self.x,
+                &self.deformed,
+                &self.current,
+                &self.weights,
+            );
+            times.evaluation += t.elapsed();
+            let after = terms.total(&self.weights);
+            let kept = self.current.iter().filter(|c| c.is_some()).count();
+            stage.iterations.push(IterationReport {
+                energy_before: *e,
+                energy: after,
+                fit: terms.fit,
+                rigid: terms.rigid,
+                smooth: terms.smooth,
+                kept,
+                pruned: self.current.len() - kept,
+                replaced,
+                damping,
+                retries: self.retries,
+                factorizations: self.factorizations,
+                cg_iterations,
+                times,
+            });
+            self.report.times += times;
+            let relative = if *e > 0.0 { (*e - after) / *e } else { 0.0 };
+            *e = after;
+            if relative < self.options.relax_threshold {
+                stage.converged = true;
+                break;
+            }
+        }
+        Ok(())
     }
 
     /// The `α_reg` of the stage after this one, if there is one.
@@ -480,26 +516,21 @@ impl<'a> CoarseSolver<'a> {
         }
     }
 
-    /// [`CoarseSolver::iterate`], while the other core factors the next stage's matrix at the
-    /// current state (once per stage, from its first iteration). The sparse factorization runs on
-    /// one core (see `from_setup`), and a stage's iterations take less time than it does, so this
-    /// takes every factorization but the first off the critical path. The factor is taken where
-    /// the stage starts, before its first (largest) step, and still preconditions the next stage
+    /// The next stage's matrix, assembled at the state this stage starts from, as a job that
+    /// factors it on a thread of its own while this stage iterates. The sparse factorization runs
+    /// on one core (see `from_setup`), and a stage's iterations together take less time than it
+    /// does, so this takes every factorization but the first off the critical path. The factor
+    /// is taken before the stage's first (largest) step and still preconditions the next stage
     /// well: on the `register` bench frames every solve of the next stage still converges in one
-    /// iteration of conjugate gradients.
-    fn iterate_preparing_next(
-        &mut self,
-        e: f64,
-        times: &mut StepTimes,
-        cg_iterations: &mut usize,
-    ) -> Result<Outcome, RegisterError> {
+    /// iteration of conjugate gradients. None in the last stage, or when every iteration factors
+    /// anyway (`refactor_after` 0).
+    fn next_factor(&mut self) -> Result<Option<NextFactor>, RegisterError> {
         let Some(alpha_reg) = self.next_alpha() else {
-            return self.iterate(e, times, cg_iterations);
+            return Ok(None);
         };
         if self.next.is_some() || self.refactor_after == 0 {
-            return self.iterate(e, times, cg_iterations);
+            return Ok(None);
         }
-        let t = Instant::now();
         let cholesky = match self.spare.take() {
             Some(c) => c,
             None => self.cholesky.sibling()?,
@@ -517,24 +548,14 @@ impl<'a> CoarseSolver<'a> {
             &weights,
             &mut values,
         );
-        let job = NextFactor {
+        Ok(Some(NextFactor {
             pattern: Arc::clone(&self.pattern),
             scale: mean_diagonal(&self.pattern, &values),
             lambda: self.lambda,
             values,
             alpha_reg,
             cholesky,
-        };
-        times.assembly += t.elapsed();
-        let ((prepared, factor_time), outcome) =
-            rayon::join(move || job.run(), || self.iterate(e, times, cg_iterations));
-        times.factorization += factor_time;
-        self.factorizations += 1;
-        match prepared {
-            Ok(prepared) => self.next = Some(prepared),
-            Err(cholesky) => self.spare = Some(cholesky),
-        }
-        outcome
+        }))
     }
 
     /// One damped Gauss-Newton step from the current state (energy `e`).
