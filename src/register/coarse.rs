@@ -8,10 +8,11 @@
 //! from the deformed surface after every step (non-rigid ICP, Li et al. 2009). Within a stage a
 //! vertex's correspondence is replaced only when the new one fits the vertex better, so the
 //! stage's energy can only fall (every term is then no larger than before); each new stage starts
-//! from a complete fresh projection. While a stage iterates, the next stage's matrix is factored
-//! on the other core, and preconditions that stage.
+//! from a complete fresh projection. While a stage iterates, the matrices of the next two stages
+//! are factored on threads of their own, and precondition those stages.
 
 use std::sync::Arc;
+use std::thread::{Scope, ScopedJoinHandle};
 use std::time::{Duration, Instant};
 
 use faer::Par;
@@ -75,9 +76,8 @@ pub struct CoarseSolver<'a> {
     pattern: Arc<Pattern>,
     cholesky: Cholesky,
     /// The next stage's factor, computed while this stage takes its last iterations.
-    next: Option<Prepared>,
-    /// A factorization's buffers not in use, for the next stage's factor.
-    spare: Option<Cholesky>,
+    /// Factorization buffers not in use, for the factors of later stages.
+    spare: Vec<Cholesky>,
     refactor_after: usize,
     /// Where [`CoarseSolver::run`] starts every node from.
     rigid: Option<RigidStart>,
@@ -182,8 +182,7 @@ impl<'a> CoarseSolver<'a> {
             whole,
             pattern: Arc::new(pattern),
             cholesky,
-            next: None,
-            spare: None,
+            spare: Vec::new(),
             refactor_after,
             rigid,
             x,
@@ -377,8 +376,27 @@ impl<'a> CoarseSolver<'a> {
     pub fn run(&mut self) -> Result<CoarseReport, RegisterError> {
         self.prealign();
         let t = Instant::now();
-        let mut fresh = self.fresh()?;
-        let mut pending = t.elapsed();
+        let fresh = self.fresh()?;
+        let carried = Carried {
+            times: StepTimes {
+                correspondence: t.elapsed(),
+                ..StepTimes::default()
+            },
+            factorizations: 0,
+        };
+        std::thread::scope(|scope| self.stages(scope, fresh, carried))?;
+        Ok(self.report.clone())
+    }
+
+    /// The stages of [`CoarseSolver::run`], with later stages' factors running on threads of
+    /// `scope`.
+    fn stages<'s>(
+        &mut self,
+        scope: &'s Scope<'s, '_>,
+        mut fresh: Vec<Option<FitTarget>>,
+        mut carried: Carried,
+    ) -> Result<(), RegisterError> {
+        let mut running = Vec::new();
         loop {
             self.current = fresh.clone();
             let mut e = self.total();
@@ -388,58 +406,49 @@ impl<'a> CoarseSolver<'a> {
                 iterations: Vec::new(),
                 converged: false,
             };
-            self.take_prepared();
-            let t = Instant::now();
-            let ahead = self.next_factor()?;
-            let ahead_assembly = t.elapsed();
-            let prepared = std::thread::scope(|scope| {
-                let job = ahead.map(|job| scope.spawn(move || job.run()));
-                let iterated = self.stage_iterations(&mut stage, &mut e, &mut fresh, &mut pending);
-                let prepared = job.map(|handle| match handle.join() {
-                    Ok(done) => done,
-                    Err(panic) => std::panic::resume_unwind(panic),
-                });
-                iterated.map(|()| prepared)
-            })?;
-            if let Some((prepared, factor_time)) = prepared {
-                if let Some(first) = stage.iterations.first_mut() {
-                    first.times.assembly += ahead_assembly;
-                    first.times.factorization += factor_time;
-                    first.factorizations += 1;
-                }
-                self.report.times.assembly += ahead_assembly;
-                self.report.times.factorization += factor_time;
-                match prepared {
-                    Ok(prepared) => self.next = Some(prepared),
-                    Err(cholesky) => self.spare = Some(cholesky),
-                }
-            }
+            self.take_prepared(&mut running, &mut carried);
+            self.start_factor(scope, &mut running, 1, &mut carried.times)?;
+            self.stage_iterations(
+                scope,
+                &mut running,
+                &mut stage,
+                &mut e,
+                &mut fresh,
+                &mut carried,
+            )?;
             self.report.converged &= stage.converged;
             self.report.stages.push(stage);
             let floor = self.options.alpha_reg_floor;
             if self.weights.reg <= floor * (1.0 + 1e-9) {
-                break;
+                return Ok(());
             }
             self.weights.reg = (self.weights.reg / 10.0).max(floor);
         }
-        Ok(self.report.clone())
     }
 
     /// The iterations of one stage, from energy `e` (updated as they go), until the energy stops
-    /// falling; `fresh` is the last projection and `pending` the time it took, not yet reported.
-    fn stage_iterations(
+    /// falling; `fresh` is the last projection, and `carried` what was done for the first
+    /// iteration before it (reported with it). The factor of the stage after next starts at the
+    /// second iteration: the first moves far, the later ones little, so from then on the state is
+    /// nearly the one the next stage starts from.
+    fn stage_iterations<'s>(
         &mut self,
+        scope: &'s Scope<'s, '_>,
+        running: &mut Vec<Running<'s>>,
         stage: &mut StageReport,
         e: &mut f64,
         fresh: &mut Vec<Option<FitTarget>>,
-        pending: &mut Duration,
+        carried: &mut Carried,
     ) -> Result<(), RegisterError> {
         while stage.iterations.len() < self.options.max_stage_iterations {
-            let mut times = StepTimes {
-                correspondence: std::mem::take(pending),
-                ..StepTimes::default()
-            };
-            self.factorizations = 0;
+            let Carried {
+                mut times,
+                factorizations,
+            } = std::mem::take(carried);
+            if stage.iterations.len() == 1 {
+                self.start_factor(scope, running, 2, &mut times)?;
+            }
+            self.factorizations = factorizations;
             self.retries = 0;
             let mut cg_iterations = 0;
             let outcome = self.iterate(*e, &mut times, &mut cg_iterations)?;
@@ -492,46 +501,68 @@ impl<'a> CoarseSolver<'a> {
         Ok(())
     }
 
-    /// The `α_reg` of the stage after this one, if there is one.
-    fn next_alpha(&self) -> Option<f64> {
+    /// The `α_reg` of the stage `ahead` stages after this one, if there is one.
+    fn alpha_ahead(&self, ahead: usize) -> Option<f64> {
         let floor = self.options.alpha_reg_floor;
-        (self.weights.reg > floor * (1.0 + 1e-9)).then(|| (self.weights.reg / 10.0).max(floor))
+        let mut reg = self.weights.reg;
+        for _ in 0..ahead {
+            if reg <= floor * (1.0 + 1e-9) {
+                return None;
+            }
+            reg = (reg / 10.0).max(floor);
+        }
+        Some(reg)
     }
 
-    /// Starts a stage: with the factor prepared for its `α_reg` if there is one (the state it was
-    /// taken at differs from this one by the previous stage's last, small steps, so it still
-    /// preconditions well; a poor one is refreshed after `refactor_after` iterations), else with a
-    /// fresh factorization.
-    fn take_prepared(&mut self) {
+    /// Starts a stage: with the factor prepared for its `α_reg` if there is one (taken at a state
+    /// near this one, so it still preconditions well; a poor one is refreshed after
+    /// `refactor_after` iterations), else with a fresh factorization. Waiting for that factor, and
+    /// its time, go to `carried`.
+    fn take_prepared(&mut self, running: &mut Vec<Running<'_>>, carried: &mut Carried) {
         self.stale = true;
-        if let Some(prepared) = self.next.take() {
-            if prepared.alpha_reg == self.weights.reg {
+        let Some(at) = running.iter().position(|r| r.alpha_reg == self.weights.reg) else {
+            return;
+        };
+        let (prepared, time) = match running.remove(at).handle.join() {
+            Ok(done) => done,
+            Err(panic) => std::panic::resume_unwind(panic),
+        };
+        carried.times.factorization += time;
+        carried.factorizations += 1;
+        match prepared {
+            Ok(prepared) => {
                 let used = std::mem::replace(&mut self.cholesky, prepared.cholesky);
-                self.spare = Some(used);
+                self.spare.push(used);
                 self.scale = prepared.scale;
                 self.stale = false;
-            } else {
-                self.spare = Some(prepared.cholesky);
             }
+            Err(cholesky) => self.spare.push(cholesky),
         }
     }
 
-    /// The next stage's matrix, assembled at the state this stage starts from, as a job that
-    /// factors it on a thread of its own while this stage iterates. The sparse factorization runs
-    /// on one core (see `from_setup`), and a stage's iterations together take less time than it
-    /// does, so this takes every factorization but the first off the critical path. The factor
-    /// is taken before the stage's first (largest) step and still preconditions the next stage
-    /// well: on the `register` bench frames every solve of the next stage still converges in one
-    /// iteration of conjugate gradients. None in the last stage, or when every iteration factors
-    /// anyway (`refactor_after` 0).
-    fn next_factor(&mut self) -> Result<Option<NextFactor>, RegisterError> {
-        let Some(alpha_reg) = self.next_alpha() else {
-            return Ok(None);
+    /// Starts factoring, on a thread of `scope`, the matrix of the stage `ahead` stages on,
+    /// assembled at the current state (its time goes to `times`), unless that stage's factor is
+    /// already running or there is no such stage, or every iteration factors anyway
+    /// (`refactor_after` 0). The sparse factorization runs on one core (see `from_setup`), and a
+    /// stage's iterations take less time than it does, so factoring later stages' matrices while
+    /// this one iterates takes every factorization but the first off the critical path. On the
+    /// `register` bench frames every solve still converges in one or two iterations of conjugate
+    /// gradients with these factors.
+    fn start_factor<'s>(
+        &mut self,
+        scope: &'s Scope<'s, '_>,
+        running: &mut Vec<Running<'s>>,
+        ahead: usize,
+        times: &mut StepTimes,
+    ) -> Result<(), RegisterError> {
+        let Some(alpha_reg) = self.alpha_ahead(ahead) else {
+            return Ok(());
         };
-        if self.next.is_some() || self.refactor_after == 0 {
-            return Ok(None);
+        if self.refactor_after == 0 || running.iter().any(|r| r.alpha_reg == alpha_reg) {
+            return Ok(());
         }
-        let cholesky = match self.spare.take() {
+        let t = Instant::now();
+        let cholesky = match self.spare.pop() {
             Some(c) => c,
             None => self.cholesky.sibling()?,
         };
@@ -548,14 +579,19 @@ impl<'a> CoarseSolver<'a> {
             &weights,
             &mut values,
         );
-        Ok(Some(NextFactor {
+        let job = NextFactor {
             pattern: Arc::clone(&self.pattern),
             scale: mean_diagonal(&self.pattern, &values),
             lambda: self.lambda,
             values,
-            alpha_reg,
             cholesky,
-        }))
+        };
+        times.assembly += t.elapsed();
+        running.push(Running {
+            alpha_reg,
+            handle: scope.spawn(move || job.run()),
+        });
+        Ok(())
     }
 
     /// One damped Gauss-Newton step from the current state (energy `e`).
@@ -710,20 +746,18 @@ fn mean_diagonal(pattern: &Pattern, values: &[f64]) -> f64 {
     if mean > 0.0 { mean } else { 1.0 }
 }
 
-/// A factor ready for the stage with `alpha_reg`, and the damping scale of its matrix.
+/// A factor ready for a later stage, and the damping scale of its matrix.
 struct Prepared {
-    alpha_reg: f64,
     scale: f64,
     cholesky: Cholesky,
 }
 
-/// The next stage's matrix, to be factored into `cholesky` beside the current iteration.
+/// A later stage's matrix, to be factored into `cholesky` while the current stage iterates.
 struct NextFactor {
     pattern: Arc<Pattern>,
     values: Vec<f64>,
     scale: f64,
     lambda: f64,
-    alpha_reg: f64,
     cholesky: Cholesky,
 }
 
@@ -736,7 +770,6 @@ impl NextFactor {
         damp(&self.pattern, &self.values, self.lambda, &mut damped);
         let result = match self.cholesky.factor(&self.pattern, &damped) {
             Ok(()) => Ok(Prepared {
-                alpha_reg: self.alpha_reg,
                 scale: self.scale,
                 cholesky: self.cholesky,
             }),
@@ -744,6 +777,19 @@ impl NextFactor {
         };
         (result, t.elapsed())
     }
+}
+
+/// A later stage's factorization, running.
+struct Running<'s> {
+    alpha_reg: f64,
+    handle: ScopedJoinHandle<'s, (Result<Prepared, Cholesky>, Duration)>,
+}
+
+/// What was done for an iteration before it began: reported with it.
+#[derive(Debug, Default)]
+struct Carried {
+    times: StepTimes,
+    factorizations: usize,
 }
 
 /// What one attempted iteration produced.

@@ -10,8 +10,8 @@ pub struct StepTimes {
     pub correspondence: Duration,
     /// `JᵀJ` and `Jᵀr`.
     pub assembly: Duration,
-    /// Numeric Cholesky factorizations (every damping retry included, and the next stage's factor
-    /// when it was computed beside this iteration, on the other core).
+    /// Numeric Cholesky factorizations (every damping retry included; a stage's first iteration
+    /// also counts the factor computed for it while earlier stages iterated).
     pub factorization: Duration,
     /// Triangular solves.
     pub solve: Duration,
@@ -49,7 +49,8 @@ pub struct IterationReport {
     pub damping: f64,
     /// Steps retried with more damping (non-positive pivot or energy increase).
     pub retries: usize,
-    /// Numeric factorizations done in this iteration.
+    /// Numeric factorizations done in this iteration (a stage's first also counts the factor
+    /// computed for it ahead).
     pub factorizations: usize,
     /// Conjugate-gradient iterations over all tries.
     pub cg_iterations: usize,
