@@ -132,6 +132,7 @@ impl<'a> CoarseSolver<'a> {
             surface,
             graph,
             samples,
+            analysis,
         } = setup;
         let started = Instant::now();
         let all: Vec<u32> = (0..surface.rest.len() as u32).collect();
@@ -146,7 +147,10 @@ impl<'a> CoarseSolver<'a> {
         // two cores shared with other work cost more than the second core gains (measured on the
         // `register` bench frames: 16k vertices 110 ms vs 200 ms for five factorizations, 100k 1.5 s
         // vs 2.2 s); the assembly and projections around it stay parallel.
-        let cholesky = Cholesky::analyze(&pattern, Par::Seq)?;
+        let cholesky = match analysis {
+            Some(analysis) if analysis.fits(&pattern) => analysis.cholesky,
+            _ => Cholesky::analyze(&pattern, Par::Seq)?,
+        };
         let report = CoarseReport {
             nodes: model.node_count(),
             samples: samples.len(),
@@ -649,6 +653,9 @@ pub(crate) struct Setup {
     surface: Surface,
     graph: DeformationGraph,
     samples: Vec<u32>,
+    /// The symbolic analysis of the matrix, when its pattern follows from the graph alone
+    /// ([`Coupling::Graph`]): then it is done as soon as the graph is.
+    analysis: Option<GraphAnalysis>,
 }
 
 impl Setup {
@@ -667,14 +674,21 @@ impl Setup {
             return Err(RegisterError::NoScale { which: "source" });
         }
         let surface = Surface::new(&source.positions, &source.triangles, unit);
-        let (graph, (samples, result)) = rayon::join(
+        let (built, (samples, result)) = rayon::join(
             || {
-                DeformationGraph::from_adjacency(
+                let graph = DeformationGraph::from_adjacency(
                     &source.positions,
                     &surface.adjacency,
                     options.graph.spacing * unit,
                     options.graph.skinning_nodes,
-                )
+                );
+                let analysis = match options.coarse.solver {
+                    LinearSolver::PreconditionedCg { .. } => {
+                        Some(analyze_graph_pattern(&graph, &surface))
+                    }
+                    LinearSolver::Cholesky => None,
+                };
+                (graph, analysis)
             },
             || {
                 let samples = fit_samples(&surface, options.coarse.sample_spacing);
@@ -682,11 +696,13 @@ impl Setup {
                 (samples, result)
             },
         );
+        let (graph, analysis) = built;
         Ok((
             Self {
                 surface,
                 graph,
                 samples,
+                analysis: analysis.transpose()?,
             },
             result,
         ))
@@ -734,6 +750,36 @@ pub(crate) fn rigid_start(
         energies: report.energies,
         time: t.elapsed(),
     }))
+}
+
+/// The symbolic analysis of the [`Coupling::Graph`] pattern of `graph`, which has a block for
+/// every graph edge and node whichever vertices carry `E_fit`, so it needs no samples (the
+/// samples' fit terms go to the diagonal blocks).
+fn analyze_graph_pattern(
+    graph: &DeformationGraph,
+    surface: &Surface,
+) -> Result<GraphAnalysis, RegisterError> {
+    let model = Model::new(graph, &surface.rest, &[], &surface.units);
+    let pattern = Pattern::new(&model, Coupling::Graph)?;
+    Ok(GraphAnalysis {
+        cholesky: Cholesky::analyze(&pattern, Par::Seq)?,
+        block_col_ptr: pattern.block_col_ptr,
+        block_rows: pattern.block_rows,
+    })
+}
+
+/// A symbolic analysis and the block structure it was made for.
+struct GraphAnalysis {
+    cholesky: Cholesky,
+    block_col_ptr: Vec<u32>,
+    block_rows: Vec<u32>,
+}
+
+impl GraphAnalysis {
+    /// Whether `pattern` has the analysed structure (the scalar pattern follows from the blocks).
+    fn fits(&self, pattern: &Pattern) -> bool {
+        self.block_col_ptr == pattern.block_col_ptr && self.block_rows == pattern.block_rows
+    }
 }
 
 /// The mean diagonal of the matrix whose upper triangle is `values`: the scale of damping.
