@@ -75,9 +75,12 @@ fn breadth_first_order(adjacency: &VertexAdjacency) -> Vec<u32> {
 #[derive(Debug, Clone)]
 pub struct NearestNodes {
     count: usize,
-    /// `count` slots per vertex: (node index, distance).
-    labels: Vec<(u32, f32)>,
-    filled: Vec<u8>,
+    /// `2 count` slots per vertex: its accepted labels (node index, distance), then the search's
+    /// pending offers. Side by side, a vertex's labels and offers share cache lines, and the
+    /// search, which reads both for every neighbour it reaches, is bound by those reads.
+    slots: Vec<(u32, f32)>,
+    /// Per vertex: labels accepted, offers pending.
+    lengths: Vec<[u8; 2]>,
 }
 
 impl NearestNodes {
@@ -98,34 +101,27 @@ impl NearestNodes {
         count: usize,
     ) -> Self {
         let n = adjacency.vertex_count();
-        let count = count.clamp(1, u8::MAX as usize);
+        let count = count.clamp(1, u8::MAX as usize / 2);
         let mut found = Self {
             count,
-            labels: vec![(u32::MAX, f32::INFINITY); n * count],
-            filled: vec![0u8; n],
-        };
-        let mut offers = Offers {
-            count,
-            entries: vec![(u32::MAX, f32::INFINITY); n * count],
-            len: vec![0u8; n],
+            slots: vec![(u32::MAX, f32::INFINITY); n * 2 * count],
+            lengths: vec![[0u8; 2]; n],
         };
         let mut heap = RadixHeap::new();
         for (source, &vertex) in nodes.iter().enumerate() {
-            if offers.offer(&found, vertex as usize, source as u32, 0.0) {
+            if found.offer(vertex as usize, source as u32, 0.0) {
                 heap.push(0.0, (vertex, source as u32));
             }
         }
         while let Some((distance, (vertex, source))) = heap.pop() {
             let v = vertex as usize;
-            if !offers.take(v, source, distance) {
+            if !found.take(v, source, distance) {
                 continue;
             }
-            found.labels[v * count + found.filled[v] as usize] = (source, distance);
-            found.filled[v] += 1;
             let p = positions[v];
             for &u in adjacency.neighbours(v) {
                 let d = distance + p.distance(positions[u as usize]);
-                if offers.offer(&found, u as usize, source, d) {
+                if found.offer(u as usize, source, d) {
                     heap.push(d, (u, source));
                 }
             }
@@ -136,32 +132,20 @@ impl NearestNodes {
     /// The nearest nodes of vertex `v` as (node index, geodesic distance), nearest first; fewer than
     /// `count` when its component holds fewer nodes.
     pub fn of(&self, v: usize) -> &[(u32, f32)] {
-        &self.labels[v * self.count..v * self.count + self.filled[v] as usize]
-    }
-}
-
-/// The pending offers of every vertex: `(source, distance)`, at most `count` per vertex together
-/// with its accepted labels.
-struct Offers {
-    count: usize,
-    entries: Vec<(u32, f32)>,
-    len: Vec<u8>,
-}
-
-impl Offers {
-    fn of(&mut self, v: usize) -> &mut [(u32, f32)] {
-        let start = v * self.count;
-        &mut self.entries[start..start + self.len[v] as usize]
+        let start = 2 * v * self.count;
+        &self.slots[start..start + self.lengths[v][0] as usize]
     }
 
     /// Records `source` reaching `v` at `distance`; true when that improves `v`'s offers (and so
     /// must be queued).
-    fn offer(&mut self, found: &NearestNodes, v: usize, source: u32, distance: f32) -> bool {
-        if found.of(v).iter().any(|&(s, _)| s == source) {
+    fn offer(&mut self, v: usize, source: u32, distance: f32) -> bool {
+        let [filled, pending] = self.lengths[v].map(usize::from);
+        let start = 2 * v * self.count;
+        let (labels, offers) = self.slots[start..start + 2 * self.count].split_at_mut(self.count);
+        if labels[..filled].iter().any(|&(s, _)| s == source) {
             return false;
         }
-        let room = self.count - found.filled[v] as usize;
-        let list = self.of(v);
+        let list = &mut offers[..pending];
         if let Some(entry) = list.iter_mut().find(|e| e.0 == source) {
             if distance < entry.1 {
                 entry.1 = distance;
@@ -169,10 +153,9 @@ impl Offers {
             }
             return false;
         }
-        if list.len() < room {
-            let at = v * self.count + self.len[v] as usize;
-            self.entries[at] = (source, distance);
-            self.len[v] += 1;
+        if pending < self.count - filled {
+            offers[pending] = (source, distance);
+            self.lengths[v][1] += 1;
             return true;
         }
         let worst = list
@@ -187,16 +170,21 @@ impl Offers {
         }
     }
 
-    /// Removes `v`'s offer of `source` if it still stands at `distance` (a queued item whose offer
-    /// was improved or pushed out since is stale); true when it did.
+    /// Accepts `v`'s offer of `source` as its next label if the offer still stands at `distance`
+    /// (a queued item whose offer was improved or pushed out since is stale); true when it did.
     fn take(&mut self, v: usize, source: u32, distance: f32) -> bool {
-        let list = self.of(v);
-        let Some(i) = list.iter().position(|&e| e == (source, distance)) else {
+        let [filled, pending] = self.lengths[v].map(usize::from);
+        let start = 2 * v * self.count;
+        let (labels, offers) = self.slots[start..start + 2 * self.count].split_at_mut(self.count);
+        let Some(i) = offers[..pending]
+            .iter()
+            .position(|&e| e == (source, distance))
+        else {
             return false;
         };
-        let last = list.len() - 1;
-        list.swap(i, last);
-        self.len[v] -= 1;
+        offers.swap(i, pending - 1);
+        labels[filled] = (source, distance);
+        self.lengths[v] = [filled as u8 + 1, pending as u8 - 1];
         true
     }
 }
