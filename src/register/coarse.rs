@@ -75,7 +75,6 @@ pub struct CoarseSolver<'a> {
     whole: Model,
     pattern: Arc<Pattern>,
     cholesky: Cholesky,
-    /// The next stage's factor, computed while this stage takes its last iterations.
     /// Factorization buffers not in use, for the factors of later stages.
     spare: Vec<Cholesky>,
     refactor_after: usize,
