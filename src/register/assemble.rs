@@ -113,9 +113,14 @@ fn add_fit(block: &mut Block, u: &[f64; 4], v: &[f64; 4], m: &[[f64; 3]; 3]) {
 pub fn damp(pattern: &Pattern, h: &[f64], lambda: f64, damped: &mut Vec<f64>) {
     damped.clear();
     damped.extend_from_slice(h);
+    damp_in_place(pattern, damped, lambda);
+}
+
+/// [`damp`] into `h` itself, for a matrix not needed undamped again.
+pub fn damp_in_place(pattern: &Pattern, h: &mut [f64], lambda: f64) {
     if lambda > 0.0 {
         for c in 0..pattern.dimension() {
-            damped[pattern.col_ptr[c + 1] as usize - 1] += lambda;
+            h[pattern.col_ptr[c + 1] as usize - 1] += lambda;
         }
     }
 }

@@ -20,7 +20,7 @@ use faer::linalg::cholesky::llt::factor::LltError;
 use glam::{DVec3, Vec3};
 
 use super::RegisterError;
-use super::assemble::{assemble, damp};
+use super::assemble::{assemble, damp, damp_in_place};
 use super::cholesky::Cholesky;
 use super::correspond::{Correspond, Projector, targets};
 use super::energy::{CoarseWeights, FitTarget, energy, fit_energy, fit_pulls, gradient};
@@ -811,9 +811,8 @@ impl NextFactor {
     /// factors, and damps, as usual); and the time it took.
     fn run(mut self) -> (Result<Prepared, Cholesky>, Duration) {
         let t = Instant::now();
-        let mut damped = Vec::new();
-        damp(&self.pattern, &self.values, self.lambda, &mut damped);
-        let result = match self.cholesky.factor(&self.pattern, &damped) {
+        damp_in_place(&self.pattern, &mut self.values, self.lambda);
+        let result = match self.cholesky.factor(&self.pattern, &self.values) {
             Ok(()) => Ok(Prepared {
                 scale: self.scale,
                 cholesky: self.cholesky,
