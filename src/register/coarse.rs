@@ -421,11 +421,10 @@ impl<'a> CoarseSolver<'a> {
             )?;
             self.report.converged &= stage.converged;
             self.report.stages.push(stage);
-            let floor = self.options.alpha_reg_floor;
-            if self.weights.reg <= floor * (1.0 + 1e-9) {
-                return Ok(());
+            match self.alpha_ahead(1) {
+                Some(next) => self.weights.reg = next,
+                None => return Ok(()),
             }
-            self.weights.reg = (self.weights.reg / 10.0).max(floor);
         }
     }
 
@@ -504,7 +503,9 @@ impl<'a> CoarseSolver<'a> {
         Ok(())
     }
 
-    /// The `α_reg` of the stage `ahead` stages after this one, if there is one.
+    /// The `α_reg` of the stage `ahead` stages after this one, if there is one: the schedule
+    /// divides it by 10 down to the floor. The stages advance by this too, so a factor started
+    /// for a later stage is found by exact equality.
     fn alpha_ahead(&self, ahead: usize) -> Option<f64> {
         let floor = self.options.alpha_reg_floor;
         let mut reg = self.weights.reg;
