@@ -140,8 +140,7 @@ impl NearestNodes {
     /// must be queued).
     fn offer(&mut self, v: usize, source: u32, distance: f32) -> bool {
         let [filled, pending] = self.lengths[v].map(usize::from);
-        let start = 2 * v * self.count;
-        let (labels, offers) = self.slots[start..start + 2 * self.count].split_at_mut(self.count);
+        let (labels, offers) = halves(&mut self.slots, self.count, v);
         if labels[..filled].iter().any(|&(s, _)| s == source) {
             return false;
         }
@@ -174,8 +173,7 @@ impl NearestNodes {
     /// (a queued item whose offer was improved or pushed out since is stale); true when it did.
     fn take(&mut self, v: usize, source: u32, distance: f32) -> bool {
         let [filled, pending] = self.lengths[v].map(usize::from);
-        let start = 2 * v * self.count;
-        let (labels, offers) = self.slots[start..start + 2 * self.count].split_at_mut(self.count);
+        let (labels, offers) = halves(&mut self.slots, self.count, v);
         let Some(i) = offers[..pending]
             .iter()
             .position(|&e| e == (source, distance))
@@ -187,6 +185,14 @@ impl NearestNodes {
         self.lengths[v] = [filled as u8 + 1, pending as u8 - 1];
         true
     }
+}
+
+/// A (node index, geodesic distance) pair: a label or an offer.
+type Label = (u32, f32);
+
+/// Vertex `v`'s label slots and offer slots, `count` each.
+fn halves(slots: &mut [Label], count: usize, v: usize) -> (&mut [Label], &mut [Label]) {
+    slots[2 * v * count..2 * (v + 1) * count].split_at_mut(count)
 }
 
 #[cfg(test)]
