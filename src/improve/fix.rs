@@ -139,15 +139,26 @@ fn apply(mesh: &mut Mesh, fix: Fix, report: &mut ImproveReport) -> Option<Vec<Fa
     created
 }
 
-/// Works the queue of bad elements until it is empty; returns the number of operations performed.
+/// Operations one pass may perform per face it starts with. A pass on a mesh of `F` faces that fixes
+/// what it can needs about one operation per bad element; on raw input (marching-cubes slivers of a
+/// fluid cache) a split can make a neighbour bad that a collapse then fixes by undoing the split,
+/// and this bound is what ends such a cycle. What is left is reported as unfixed.
+const OPERATIONS_PER_FACE: usize = 4;
+
+/// Works the queue of bad elements until it is empty, or until the pass has performed
+/// [`OPERATIONS_PER_FACE`] operations per face of the mesh it started on; returns the number of
+/// operations performed.
 pub(super) fn fix_bad_elements(
     mesh: &mut Mesh,
     limits: &Limits,
     report: &mut ImproveReport,
 ) -> usize {
     let mut queue = Queue::new(scan(mesh, limits));
+    let budget = OPERATIONS_PER_FACE * mesh.face_count() + 64;
     let mut done = 0;
-    while let Some(task) = queue.pop() {
+    while done < budget
+        && let Some(task) = queue.pop()
+    {
         let Some(h) = task.locate(mesh) else {
             continue;
         };
