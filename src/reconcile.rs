@@ -1,22 +1,33 @@
-//! Components below the grid's resolution. `ConstrainTopology` (paper §4.3) sees the surfaces only
+//! Components the grid cannot resolve. `ConstrainTopology` (paper §4.3) sees the surfaces only
 //! through a grid of spacing Δ: a droplet smaller than a cell, or one that vanished inside a cell,
-//! leaves no trace in it (notes on the topology step, §6: "sub-cell components inside a simple cell
-//! are invisible to every test; pick a policy"). Fluid caches are full of them: marching cubes of a
-//! particle field sheds droplets of a handful of vertices every frame. The tracked mesh must still
-//! have the input's components, so after the two topology steps every component of `M` is matched
-//! with the component of `T` that most of its vertices lie on (within one cell), and:
+//! leaves no trace in it, and neither does a sheet thinner than a cell, a tunnel through one or a
+//! bridge narrower than one (notes on the topology step, §6: "sub-cell components inside a simple
+//! cell are invisible to every test; pick a policy"). Fluid caches are full of them: marching cubes
+//! of a particle field sheds droplets of a handful of vertices every frame and leaves splash sheets
+//! a tenth of an edge thick, pierced by holes. Refining the grid does not converge on such input
+//! (its features reach every scale), so the tracked mesh takes the input's own geometry where the
+//! grid fails: after the two topology steps every component of `M` is matched with the component
+//! of `T` that most of its vertices lie on (within one cell), and:
 //!
 //! * a component of `M` that lies on no component of `T` (a droplet `T` lost) is deleted;
 //! * a component of `T` that no component of `M` lies on (a droplet born below the grid) is copied
 //!   in with fresh ids;
 //! * a small component of `M` (within [`SMALL_CELLS`] cells) that shares its match with a larger
-//!   one is deleted, and one whose Euler characteristic differs from a small match is replaced by a
-//!   copy of it.
+//!   one is deleted;
+//! * a component whose match it does not reproduce — another Euler characteristic, another large
+//!   component on the same match (a bridge below the grid), or a sample of either surface farther
+//!   than `max_distance` from the other (a sheet below the grid) — is replaced by a copy of its
+//!   match.
 //!
-//! Larger components are left to `ConstrainTopology`, which resolves everything the grid can see.
-//! Like a topology patch with no boundary (§4.4), each deleted vertex takes, going backward, and each
-//! copied vertex takes, going forward, the data of the nearest surviving vertex, so every vertex of
-//! every frame holds a value and a constant channel stays constant.
+//! Everything the grid resolves was already resolved by `ConstrainTopology`, so replacement is the
+//! exception on clean input and the guarantee on real data: afterwards `M` has the input's
+//! components and Euler characteristics, and lies within `max_distance` of it.
+//!
+//! Like a topology patch with no boundary (§4.4), each vertex of a replaced component takes its data
+//! from the nearest vertex of the copy going backward, and each vertex of the copy takes, going
+//! forward, the data of the nearest vertex of the component it replaces; deleted and inserted
+//! droplets take the data of the nearest surviving vertex. So every vertex of every frame holds a
+//! value, a constant channel stays constant, and colours stay where they were.
 
 use crate::compute::Backend;
 use crate::events::{Event, EventList};
@@ -32,6 +43,19 @@ pub const SMALL_CELLS: f32 = 4.0;
 
 /// Most vertices of one component that vote on its match.
 const VOTERS: usize = 256;
+
+/// How closely the tracked mesh must follow the input where the grid cannot see.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Fidelity {
+    /// The input's components and Euler characteristics, within `max_distance`, on every frame:
+    /// a component of any size the grid leaves different is replaced.
+    #[default]
+    Input,
+    /// The topology the grid resolves (paper §4.3), plus the components below
+    /// [`SMALL_CELLS`]: larger components keep their vertices (and their coherence) even where
+    /// the input has a sheet, tunnel or bridge thinner than a cell.
+    Grid,
+}
 
 /// What reconciliation changed in one frame.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -93,93 +117,106 @@ fn components(mesh: &IndexedMesh) -> (Vec<Component>, Vec<u32>) {
 }
 
 /// Makes `mesh`'s components agree with `target`'s where the grid of spacing `spacing` cannot
-/// (see the module comment). `bvh` is built over `target`. Returns the events (deletions first,
-/// then insertions) and what changed; `mesh` is untouched when nothing does.
+/// (see the module comment); `max_distance` (world units) is the farthest either surface may lie
+/// from the other. `bvh` is built over `target`. Returns the events (creations first, then
+/// deletions) and what changed; `mesh` is untouched when nothing does.
 pub fn reconcile_components(
     backend: &Backend,
     mesh: &mut Mesh,
     target: &IndexedMesh,
     bvh: &Bvh,
     spacing: f32,
+    max_distance: f32,
+    fidelity: Fidelity,
 ) -> Result<(EventList, ReconcileCounts), ReconcileError> {
     let current = mesh.to_indexed();
-    let (ours, _) = components(&current);
+    let (ours, our_labels) = components(&current);
     let (theirs, target_labels) = components(target);
     let small = SMALL_CELLS * spacing;
-
-    // Each of our components votes, vertex by vertex, for the target component within a cell; a
-    // large component votes with an evenly strided sample of its vertices.
-    let voters: Vec<&[u32]> = ours.iter().map(|c| c.vertices.as_slice()).collect();
-    let sample: Vec<Vec<u32>> = voters
-        .iter()
-        .map(|v| {
-            let step = v.len().div_ceil(VOTERS).max(1);
-            v.iter().step_by(step).copied().collect()
-        })
-        .collect();
-    let points: Vec<Vec3> = sample
-        .iter()
-        .flatten()
-        .map(|&v| current.positions[v as usize])
-        .collect();
-    let reach = spacing / bvh.mean_edge_length();
-    let nearest = closest_points(backend, bvh, &points, reach)?;
-    let mut matched: Vec<Option<usize>> = Vec::with_capacity(ours.len());
-    let mut hits = nearest.iter();
-    for s in &sample {
-        let mut votes = vec![0usize; theirs.len()];
-        for hit in hits.by_ref().take(s.len()) {
-            if let Some(t) = hit.hit_triangle()
-                && let Some(&[a, _, _]) = target.triangles.get(t as usize)
-                && let Some(k) = target_labels.get(a as usize)
-                && let Some(count) = votes.get_mut(*k as usize)
-            {
-                *count += 1;
-            }
+    let matched = match_components(
+        backend,
+        &current,
+        &ours,
+        target,
+        &target_labels,
+        bvh,
+        spacing,
+    )?;
+    let (our_far, their_far) = match fidelity {
+        Fidelity::Grid => (vec![false; ours.len()], vec![false; theirs.len()]),
+        Fidelity::Input if current.triangles.is_empty() => {
+            (vec![false; ours.len()], vec![true; theirs.len()])
         }
-        let best = (0..votes.len()).max_by_key(|&k| (votes[k], std::cmp::Reverse(k)));
-        matched.push(best.filter(|&k| 2 * votes[k] > s.len()));
-    }
+        Fidelity::Input => (
+            far_components(
+                backend,
+                bvh,
+                &current,
+                &our_labels,
+                ours.len(),
+                max_distance,
+            )?,
+            far_components(
+                backend,
+                &Bvh::build(&current)?,
+                target,
+                &target_labels,
+                theirs.len(),
+                max_distance,
+            )?,
+        ),
+    };
 
-    // Decide, per component of ours, whether it goes; per component of theirs, whether it comes.
+    // Decide, per component of theirs, which of ours stay on it, or whether a copy replaces them.
     let mut delete = vec![false; ours.len()];
     let mut insert = vec![false; theirs.len()];
+    let mut replaces: Vec<Vec<usize>> = vec![Vec::new(); theirs.len()];
     let mut counts = ReconcileCounts::default();
-    let mut largest: Vec<Option<usize>> = vec![None; theirs.len()];
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); theirs.len()];
     for (c, m) in matched.iter().enumerate() {
         match *m {
             None => {
                 delete[c] = true;
                 counts.deleted += 1;
             }
-            Some(k) => {
-                let bigger = |o: usize| ours[o].vertices.len() >= ours[c].vertices.len();
-                if largest[k].is_none_or(|o| !bigger(o)) {
-                    largest[k] = Some(c);
-                }
-            }
+            Some(k) => members[k].push(c),
         }
     }
-    for (c, m) in matched.iter().enumerate() {
-        let Some(k) = *m else { continue };
-        if largest[k] != Some(c) {
-            if ours[c].diagonal <= small {
+    for (k, group) in members.iter().enumerate() {
+        let Some(&largest) = group
+            .iter()
+            .max_by_key(|&&c| (ours[c].vertices.len(), std::cmp::Reverse(c)))
+        else {
+            insert[k] = true;
+            counts.inserted += 1;
+            continue;
+        };
+        let others = group.iter().copied().filter(|&c| c != largest);
+        let faithful = match fidelity {
+            Fidelity::Input => {
+                ours[largest].euler == theirs[k].euler
+                    && !our_far[largest]
+                    && !their_far[k]
+                    && others.clone().all(|c| ours[c].diagonal <= small)
+            }
+            Fidelity::Grid => {
+                ours[largest].euler == theirs[k].euler
+                    || ours[largest].diagonal > small
+                    || theirs[k].diagonal > small
+            }
+        };
+        if faithful {
+            for c in others.filter(|&c| ours[c].diagonal <= small) {
                 delete[c] = true;
                 counts.deleted += 1;
             }
-        } else if ours[c].euler != theirs[k].euler
-            && ours[c].diagonal <= small
-            && theirs[k].diagonal <= small
-        {
-            delete[c] = true;
+        } else {
+            for &c in group {
+                delete[c] = true;
+            }
             insert[k] = true;
+            replaces[k] = group.clone();
             counts.replaced += 1;
-        }
-    }
-    for (k, l) in largest.iter().enumerate() {
-        if l.is_none() {
-            insert[k] = true;
-            counts.inserted += 1;
         }
     }
     if !counts.changed() {
@@ -188,14 +225,10 @@ pub fn reconcile_components(
 
     // The new surface: our kept components, then copies of the inserted ones.
     let ids = current.ids.as_deref().unwrap_or_default();
+    let id_of = |v: u32| ids.get(v as usize).copied().unwrap_or(u64::from(v));
     let mut keep = vec![true; current.positions.len()];
-    for c in ours
-        .iter()
-        .zip(&delete)
-        .filter(|(_, d)| **d)
-        .map(|(c, _)| c)
-    {
-        for &v in &c.vertices {
+    for c in (0..ours.len()).filter(|&c| delete[c]) {
+        for &v in &ours[c].vertices {
             keep[v as usize] = false;
         }
     }
@@ -204,7 +237,7 @@ pub fn reconcile_components(
     for (v, _) in keep.iter().enumerate().filter(|(_, k)| **k) {
         index[v] = positions.len() as u32;
         positions.push(current.positions[v]);
-        new_ids.push(ids.get(v).copied().unwrap_or(v as u64));
+        new_ids.push(id_of(v as u32));
     }
     let mut triangles: Vec<[u32; 3]> = current
         .triangles
@@ -216,25 +249,30 @@ pub fn reconcile_components(
         positions.iter().enumerate().map(|(i, &p)| (i as u32, p)),
         spacing,
     );
-    let kept_ids = new_ids.clone();
-    let survivor_id = |p: Vec3| survivors.nearest(p).map(|i| kept_ids[i as usize]);
 
+    // Creations: a copy of a replaced component takes its data from the component it replaces,
+    // which still exists when the creation is applied going forward; any other copy from the
+    // nearest survivor.
     let mut events = EventList::new();
-    for (v, _) in keep.iter().enumerate().filter(|(_, k)| !**k) {
-        let id = ids.get(v).copied().unwrap_or(v as u64);
-        let source = survivor_id(current.positions[v]);
-        events.push(Event::patch_deleted(
-            id,
-            source.map(|s| vec![(s, 1.0)]).unwrap_or_default(),
-        ));
-    }
     let mut next_id = mesh.next_id();
     let mut target_index = vec![u32::MAX; target.positions.len()];
+    let mut copies: Vec<Vec<u32>> = vec![Vec::new(); theirs.len()];
     for k in (0..theirs.len()).filter(|&k| insert[k]) {
+        let replaced = Survivors::new(
+            replaces[k]
+                .iter()
+                .flat_map(|&c| &ours[c].vertices)
+                .map(|&v| (v, current.positions[v as usize])),
+            spacing,
+        );
         for &v in &theirs[k].vertices {
             let p = target.positions[v as usize];
-            let source = survivor_id(p);
+            let source = match replaced.nearest(p) {
+                Some(old) => Some(id_of(old)),
+                None => survivors.nearest(p).map(|s| new_ids[s as usize]),
+            };
             target_index[v as usize] = positions.len() as u32;
+            copies[k].push(positions.len() as u32);
             positions.push(p);
             new_ids.push(next_id);
             events.push(Event::patch_created(
@@ -251,10 +289,132 @@ pub fn reconcile_components(
             .filter(|t| target_index[t[0] as usize] != u32::MAX)
             .map(|t| t.map(|v| target_index[v as usize])),
     );
+
+    // Deletions: a replaced component's vertices take their data from its copy going backward;
+    // any other deleted vertex from the nearest survivor.
+    let mut deleted_with_copy = vec![false; ours.len()];
+    for (group, copy) in replaces.iter().zip(&copies) {
+        if group.is_empty() {
+            continue;
+        }
+        let copy = Survivors::new(copy.iter().map(|&i| (i, positions[i as usize])), spacing);
+        for &c in group {
+            deleted_with_copy[c] = true;
+            for &v in &ours[c].vertices {
+                let source = copy.nearest(current.positions[v as usize]);
+                events.push(Event::patch_deleted(
+                    id_of(v),
+                    source
+                        .map(|i| vec![(new_ids[i as usize], 1.0)])
+                        .unwrap_or_default(),
+                ));
+            }
+        }
+    }
+    for c in (0..ours.len()).filter(|&c| delete[c] && !deleted_with_copy[c]) {
+        for &v in &ours[c].vertices {
+            let source = survivors.nearest(current.positions[v as usize]);
+            events.push(Event::patch_deleted(
+                id_of(v),
+                source
+                    .map(|i| vec![(new_ids[i as usize], 1.0)])
+                    .unwrap_or_default(),
+            ));
+        }
+    }
     let mut rebuilt = IndexedMesh::new(positions, triangles);
     rebuilt.ids = Some(new_ids);
     let mut replacement = Mesh::from_indexed(&rebuilt)?;
     replacement.reserve_ids_below(next_id);
     *mesh = replacement;
     Ok((events, counts))
+}
+
+/// The component of `target` each of `ours` lies on: each votes, vertex by vertex, for the target
+/// component within a cell; a large component votes with an evenly strided sample of its
+/// vertices. `None` where no component has a majority.
+fn match_components(
+    backend: &Backend,
+    current: &IndexedMesh,
+    ours: &[Component],
+    target: &IndexedMesh,
+    target_labels: &[u32],
+    bvh: &Bvh,
+    spacing: f32,
+) -> Result<Vec<Option<usize>>, ReconcileError> {
+    let theirs = target_labels
+        .iter()
+        .map(|&l| l as usize + 1)
+        .max()
+        .unwrap_or(0);
+    let sample: Vec<Vec<u32>> = ours
+        .iter()
+        .map(|c| {
+            let step = c.vertices.len().div_ceil(VOTERS).max(1);
+            c.vertices.iter().step_by(step).copied().collect()
+        })
+        .collect();
+    let points: Vec<Vec3> = sample
+        .iter()
+        .flatten()
+        .map(|&v| current.positions[v as usize])
+        .collect();
+    let reach = spacing / bvh.mean_edge_length();
+    let nearest = closest_points(backend, bvh, &points, reach)?;
+    let mut matched: Vec<Option<usize>> = Vec::with_capacity(ours.len());
+    let mut hits = nearest.iter();
+    for s in &sample {
+        let mut votes = vec![0usize; theirs];
+        for hit in hits.by_ref().take(s.len()) {
+            if let Some(t) = hit.hit_triangle()
+                && let Some(&[a, _, _]) = target.triangles.get(t as usize)
+                && let Some(k) = target_labels.get(a as usize)
+                && let Some(count) = votes.get_mut(*k as usize)
+            {
+                *count += 1;
+            }
+        }
+        let best = (0..votes.len()).max_by_key(|&k| (votes[k], std::cmp::Reverse(k)));
+        matched.push(best.filter(|&k| 2 * votes[k] > s.len()));
+    }
+    Ok(matched)
+}
+
+/// Which components of `mesh` (vertex labels `labels`, `count` components) reach farther than
+/// `max_distance` (world units) from the surface in `bvh`, measured as `eval` measures: at every
+/// vertex, edge midpoint and triangle centroid.
+fn far_components(
+    backend: &Backend,
+    bvh: &Bvh,
+    mesh: &IndexedMesh,
+    labels: &[u32],
+    count: usize,
+    max_distance: f32,
+) -> Result<Vec<bool>, ReconcileError> {
+    let p = |v: u32| mesh.positions[v as usize];
+    let mut points: Vec<Vec3> = mesh.positions.clone();
+    let mut owners: Vec<u32> = labels.to_vec();
+    for t in &mesh.triangles {
+        let owner = labels.get(t[0] as usize).copied().unwrap_or(u32::MAX);
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            if a < b {
+                points.push((p(a) + p(b)) * 0.5);
+                owners.push(owner);
+            }
+        }
+        points.push((p(t[0]) + p(t[1]) + p(t[2])) / 3.0);
+        owners.push(owner);
+    }
+    let reach = max_distance / bvh.mean_edge_length();
+    let nearest = closest_points(backend, bvh, &points, reach)?;
+    let mut far = vec![false; count];
+    for (hit, &owner) in nearest.iter().zip(&owners) {
+        if hit.hit_triangle().is_none()
+            && let Some(f) = far.get_mut(owner as usize)
+        {
+            *f = true;
+        }
+    }
+    Ok(far)
 }

@@ -14,7 +14,7 @@ use crate::grid::{GridFrame, RasterError};
 use crate::improve::{ImproveError, ImproveParams, improve};
 use crate::mesh::{IndexedMesh, Mesh, MeshError};
 use crate::project::{Bvh, ProjectError, closest_points};
-use crate::reconcile::{ReconcileCounts, ReconcileError, reconcile_components};
+use crate::reconcile::{Fidelity, ReconcileCounts, ReconcileError, reconcile_components};
 use crate::register::{RegisterError, RegisterOptions, register_onto};
 use crate::topology::{Field, TopologyError, TopologyOptions, constrain_topology};
 use serde::{Deserialize, Serialize};
@@ -35,6 +35,12 @@ pub struct TrackOptions {
     pub topology: TopologyOptions,
     /// How `M` follows each target before improvement and the topology steps.
     pub motion: Motion,
+    /// Farthest, in units of `L`, the tracked surface and the target may lie from each other at
+    /// the end of the topology steps: a component that does not come this close (a sheet thinner
+    /// than the grid sees) is replaced by the target's own (see [`crate::reconcile`]).
+    pub max_distance: f32,
+    /// Whether a component the grid leaves unlike the target is replaced by the target's own.
+    pub fidelity: Fidelity,
 }
 
 /// How the tracked mesh is moved onto each target (Algorithm 1, lines 5–6).
@@ -54,6 +60,10 @@ pub enum Motion {
 /// the slivers a topology patch leaves on real data (fluid caches) are only removed with more room.
 pub const TRACK_MAX_DEVIATION: f32 = 0.1;
 
+/// The default of [`TrackOptions::max_distance`]: the final improvement moves the surface by at most
+/// [`TRACK_MAX_DEVIATION`] per operation, and the output must stay within one edge length.
+pub const MAX_DISTANCE: f32 = 0.75;
+
 impl Default for TrackOptions {
     fn default() -> Self {
         Self {
@@ -66,6 +76,8 @@ impl Default for TrackOptions {
             register: RegisterOptions::default(),
             topology: TopologyOptions::default(),
             motion: Motion::Register,
+            max_distance: MAX_DISTANCE,
+            fidelity: Fidelity::Input,
         }
     }
 }
@@ -302,9 +314,16 @@ impl Tracker {
         events.extend(constrained.events);
 
         let t = Instant::now();
-        let (reconciled, counts) =
-            reconcile_components(backend, &mut self.mesh, target, &bvh, self.grid.spacing())
-                .map_err(|source| TrackError::Reconcile { frame, source })?;
+        let (reconciled, counts) = reconcile_components(
+            backend,
+            &mut self.mesh,
+            target,
+            &bvh,
+            self.grid.spacing(),
+            self.options.max_distance * self.params.edge_length,
+            self.options.fidelity,
+        )
+        .map_err(|source| TrackError::Reconcile { frame, source })?;
         times.reconcile = ms(t.elapsed());
         events.extend(reconciled);
         self.mesh.record_mutations();

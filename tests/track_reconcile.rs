@@ -10,7 +10,7 @@ use surftrack::compute::Backend;
 use surftrack::events::{VertexValues, backward, forward};
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::project::Bvh;
-use surftrack::reconcile::{ReconcileCounts, reconcile_components};
+use surftrack::reconcile::{Fidelity, ReconcileCounts, reconcile_components};
 
 fn constant(ids: &[u64]) -> VertexValues {
     VertexValues::from_parts(1, ids, &vec![0.25; ids.len()]).unwrap()
@@ -28,11 +28,29 @@ fn run(
     target: &IndexedMesh,
     spacing: f32,
 ) -> (Mesh, Mesh, ReconcileCounts, surftrack::events::EventList) {
+    run_with(ours, target, spacing, spacing, Fidelity::Input)
+}
+
+fn run_with(
+    ours: &IndexedMesh,
+    target: &IndexedMesh,
+    spacing: f32,
+    max_distance: f32,
+    fidelity: Fidelity,
+) -> (Mesh, Mesh, ReconcileCounts, surftrack::events::EventList) {
     let before = Mesh::from_indexed(ours).unwrap();
     let mut mesh = before.clone();
     let bvh = Bvh::build(target).unwrap();
-    let (events, counts) =
-        reconcile_components(&Backend::Cpu, &mut mesh, target, &bvh, spacing).unwrap();
+    let (events, counts) = reconcile_components(
+        &Backend::Cpu,
+        &mut mesh,
+        target,
+        &bvh,
+        spacing,
+        max_distance,
+        fidelity,
+    )
+    .unwrap();
     (before, mesh, counts, events)
 }
 
@@ -120,4 +138,93 @@ fn a_small_component_with_another_topology_is_replaced() {
     euler.sort_unstable();
     assert_eq!(euler, vec![0, 2]);
     events.check().unwrap();
+}
+
+/// Each vertex's x coordinate as a one-channel value.
+fn x_values(mesh: &Mesh) -> (Vec<u64>, VertexValues) {
+    let out = mesh.to_indexed();
+    let ids = out.ids.clone().unwrap();
+    let xs: Vec<f32> = out.positions.iter().map(|p| p.x).collect();
+    let values = VertexValues::from_parts(1, &ids, &xs).unwrap();
+    (ids, values)
+}
+
+/// Checks that every vertex of `mesh` carries the x coordinate of the vertex of `source` nearest
+/// to it: it differs from its own x by at most the distance to that vertex.
+fn assert_nearest_x(mesh: &Mesh, source: &Mesh, values: &VertexValues, what: &str) {
+    let (out, from) = (mesh.to_indexed(), source.to_indexed());
+    let ids = out.ids.unwrap();
+    assert_eq!(values.len(), ids.len(), "{what}");
+    for (&id, p) in ids.iter().zip(&out.positions) {
+        let nearest = from
+            .positions
+            .iter()
+            .map(|q| q.distance(*p))
+            .fold(f32::INFINITY, f32::min);
+        let error = (values.get(id).unwrap()[0] - p.x).abs();
+        assert!(
+            error <= nearest + 1e-5,
+            "{what}: vertex {id}: {error} > {nearest}"
+        );
+    }
+}
+
+#[test]
+fn a_large_component_with_another_topology_is_replaced_and_keeps_its_data() {
+    // A sphere the grid could not open into the input's ring: far larger than a small component.
+    let ours = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
+    let target = IndexedMesh::torus(0.8, 0.3, 48, 16);
+
+    let (_, kept, counts, events) = run_with(&ours, &target, 0.25, 0.25, Fidelity::Grid);
+    assert_eq!(counts, ReconcileCounts::default(), "grid fidelity keeps it");
+    assert!(events.is_empty());
+    assert_eq!(
+        kept.to_indexed(),
+        Mesh::from_indexed(&ours).unwrap().to_indexed()
+    );
+
+    let (before, mesh, counts, events) = run(&ours, &target, 0.25);
+    assert_eq!(
+        counts,
+        ReconcileCounts {
+            deleted: 0,
+            inserted: 0,
+            replaced: 1
+        }
+    );
+    let out = mesh.to_indexed();
+    out.validate().unwrap();
+    assert_eq!(out.positions, target.positions);
+    assert_eq!(out.topology().components[0].euler, 0);
+    events.check().unwrap();
+
+    // Data follows the replacement: each copied vertex takes the value of the nearest replaced
+    // one, and back.
+    let (ids_before, mut values) = x_values(&before);
+    forward(&events, &mut values).unwrap();
+    assert_nearest_x(&mesh, &before, &values, "forward");
+    let (_, mut values) = x_values(&mesh);
+    backward(&events, &mut values).unwrap();
+    assert_nearest_x(&before, &mesh, &values, "backward");
+    let mut values = constant(&ids_before);
+    forward(&events, &mut values).unwrap();
+    assert_constant(&values, out.ids.as_deref().unwrap());
+}
+
+#[test]
+fn a_component_farther_than_the_bound_is_replaced() {
+    let ours = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
+    let target = IndexedMesh::icosphere(Vec3::ZERO, 1.3, 3);
+    let (_, _, counts, _) = run_with(&ours, &target, 0.5, 0.4, Fidelity::Input);
+    assert_eq!(counts, ReconcileCounts::default(), "0.3 apart, bound 0.4");
+    let (_, mesh, counts, events) = run_with(&ours, &target, 0.5, 0.2, Fidelity::Input);
+    assert_eq!(counts.replaced, 1, "0.3 apart, bound 0.2");
+    assert_eq!(mesh.to_indexed().positions, target.positions);
+    events.check().unwrap();
+    let (_, _, counts, _) = run_with(&ours, &target, 0.5, 0.2, Fidelity::Grid);
+    assert_eq!(
+        counts,
+        ReconcileCounts::default(),
+        "grid fidelity ignores the bound"
+    );
 }

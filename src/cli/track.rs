@@ -14,8 +14,11 @@ use surftrack::io::{
     write_ply,
 };
 use surftrack::mesh::IndexedMesh;
+use surftrack::reconcile::Fidelity;
 use surftrack::register::FineOptions;
-use surftrack::track::{FrameLog, Motion, TRACK_MAX_DEVIATION, TrackOptions, Tracker};
+use surftrack::track::{
+    FrameLog, MAX_DISTANCE, Motion, TRACK_MAX_DEVIATION, TrackOptions, Tracker,
+};
 
 /// Version of `track.json`.
 const STATE_VERSION: u32 = 1;
@@ -100,6 +103,24 @@ pub struct MethodParams {
     /// Only topology differences deeper than this many cells re-sample the mesh (§4.3).
     #[arg(long, default_value_t = 1)]
     pub depth: u32,
+    /// Farthest, in units of L, the tracked surface may lie from the input after the topology
+    /// steps: a component that does not come this close, or whose topology the grid cannot give
+    /// it, is replaced by the input's own.
+    #[arg(long, default_value_t = MAX_DISTANCE)]
+    pub max_distance: f32,
+    /// What the tracked mesh must match: `input` (every frame has the input's components and Euler
+    /// characteristics within --max-distance; a component the grid cannot make so is replaced by
+    /// the input's, and loses its coherence) or `grid` (the topology the grid resolves, paper §4.3;
+    /// sheets, tunnels and bridges thinner than a cell may differ from the input's).
+    #[arg(long, value_enum, default_value_t = FidelityArg::Input)]
+    pub fidelity: FidelityArg,
+}
+
+/// `--fidelity`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
+pub enum FidelityArg {
+    Input,
+    Grid,
 }
 
 /// The cover weight of a run recorded before the flag existed: it ran without the term, so
@@ -133,6 +154,11 @@ impl MethodParams {
         o.register.fine.sigma = self.sigma;
         o.register.fine.cover_weight = self.cover_weight;
         o.topology.depth = self.depth;
+        o.max_distance = self.max_distance;
+        o.fidelity = match self.fidelity {
+            FidelityArg::Input => Fidelity::Input,
+            FidelityArg::Grid => Fidelity::Grid,
+        };
         o.motion = match self.motion {
             MotionArg::Register => Motion::Register,
             MotionArg::Project => Motion::Project,
