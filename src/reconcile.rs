@@ -25,11 +25,13 @@
 //!
 //! Like a topology patch with no boundary (§4.4), each vertex of a replaced component takes its data
 //! from the nearest vertex of the copy going backward, and each vertex of the copy takes, going
-//! forward, the data of the nearest vertex of the component it replaces; deleted and inserted
-//! droplets take the data of the nearest surviving vertex. So every vertex of every frame holds a
-//! value, a constant channel stays constant, and colours stay where they were.
+//! forward, the data of the nearest vertex of the component it replaces; an inserted droplet takes
+//! the data of the nearest vertex before the change, a deleted one that of the nearest vertex after
+//! it. So every vertex of every frame holds a value (unless a whole frame is empty), a constant
+//! channel stays constant, and colours stay near where they were.
 
 use crate::compute::Backend;
+use crate::eval::labelled_surface_samples;
 use crate::events::{Event, EventList};
 use crate::mesh::{IndexedMesh, Mesh, MeshError};
 use crate::project::{Bvh, ProjectError, closest_points};
@@ -245,14 +247,19 @@ pub fn reconcile_components(
         .filter(|t| keep[t[0] as usize])
         .map(|t| t.map(|v| index[v as usize]))
         .collect();
-    let survivors = Survivors::new(
-        positions.iter().enumerate().map(|(i, &p)| (i as u32, p)),
+    // Every vertex exists when the creations are applied going forward; every kept vertex and
+    // every copy when the deletions are undone going backward.
+    let before = Survivors::new(
+        current
+            .positions
+            .iter()
+            .enumerate()
+            .map(|(v, &p)| (v as u32, p)),
         spacing,
     );
 
     // Creations: a copy of a replaced component takes its data from the component it replaces,
-    // which still exists when the creation is applied going forward; any other copy from the
-    // nearest survivor.
+    // any other copy from the nearest vertex.
     let mut events = EventList::new();
     let mut next_id = mesh.next_id();
     let mut target_index = vec![u32::MAX; target.positions.len()];
@@ -267,10 +274,7 @@ pub fn reconcile_components(
         );
         for &v in &theirs[k].vertices {
             let p = target.positions[v as usize];
-            let source = match replaced.nearest(p) {
-                Some(old) => Some(id_of(old)),
-                None => survivors.nearest(p).map(|s| new_ids[s as usize]),
-            };
+            let source = replaced.nearest(p).or_else(|| before.nearest(p)).map(id_of);
             target_index[v as usize] = positions.len() as u32;
             copies[k].push(positions.len() as u32);
             positions.push(p);
@@ -291,7 +295,7 @@ pub fn reconcile_components(
     );
 
     // Deletions: a replaced component's vertices take their data from its copy going backward;
-    // any other deleted vertex from the nearest survivor.
+    // any other deleted vertex from the nearest kept or copied vertex.
     let mut deleted_with_copy = vec![false; ours.len()];
     for (group, copy) in replaces.iter().zip(&copies) {
         if group.is_empty() {
@@ -311,9 +315,13 @@ pub fn reconcile_components(
             }
         }
     }
+    let after = Survivors::new(
+        positions.iter().enumerate().map(|(i, &p)| (i as u32, p)),
+        spacing,
+    );
     for c in (0..ours.len()).filter(|&c| delete[c] && !deleted_with_copy[c]) {
         for &v in &ours[c].vertices {
-            let source = survivors.nearest(current.positions[v as usize]);
+            let source = after.nearest(current.positions[v as usize]);
             events.push(Event::patch_deleted(
                 id_of(v),
                 source
@@ -391,21 +399,7 @@ fn far_components(
     count: usize,
     max_distance: f32,
 ) -> Result<Vec<bool>, ReconcileError> {
-    let p = |v: u32| mesh.positions[v as usize];
-    let mut points: Vec<Vec3> = mesh.positions.clone();
-    let mut owners: Vec<u32> = labels.to_vec();
-    for t in &mesh.triangles {
-        let owner = labels.get(t[0] as usize).copied().unwrap_or(u32::MAX);
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            if a < b {
-                points.push((p(a) + p(b)) * 0.5);
-                owners.push(owner);
-            }
-        }
-        points.push((p(t[0]) + p(t[1]) + p(t[2])) / 3.0);
-        owners.push(owner);
-    }
+    let (points, owners) = labelled_surface_samples(mesh, labels);
     let reach = max_distance / bvh.mean_edge_length();
     let nearest = closest_points(backend, bvh, &points, reach)?;
     let mut far = vec![false; count];

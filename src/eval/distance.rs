@@ -29,22 +29,31 @@ impl SurfaceDistances {
 /// that lists it with ascending ends) and centroids. Midway between vertices is where two
 /// triangulations of one surface part most, so this sees more than the vertices alone would.
 pub fn surface_samples(mesh: &IndexedMesh) -> Vec<Vec3> {
+    labelled_surface_samples(mesh, &[]).0
+}
+
+/// [`surface_samples`], each with the label of the vertex it is, or of the first corner of the
+/// triangle it lies in (`u32::MAX` where `labels` has none): with component labels, which
+/// component each sample measures.
+pub fn labelled_surface_samples(mesh: &IndexedMesh, labels: &[u32]) -> (Vec<Vec3>, Vec<u32>) {
     let p = |v: u32| mesh.positions[v as usize];
+    let label = |v: u32| labels.get(v as usize).copied().unwrap_or(u32::MAX);
     let mut samples = mesh.positions.clone();
+    let mut owners: Vec<u32> = (0..mesh.positions.len() as u32).map(label).collect();
     for tri in &mesh.triangles {
         for k in 0..3 {
             let (a, b) = (tri[k], tri[(k + 1) % 3]);
             if a < b {
                 samples.push((p(a) + p(b)) * 0.5);
+                owners.push(label(tri[0]));
             }
         }
     }
-    samples.extend(
-        mesh.triangles
-            .iter()
-            .map(|t| (p(t[0]) + p(t[1]) + p(t[2])) / 3.0),
-    );
-    samples
+    for t in &mesh.triangles {
+        samples.push((p(t[0]) + p(t[1]) + p(t[2])) / 3.0);
+        owners.push(label(t[0]));
+    }
+    (samples, owners)
 }
 
 /// Largest and summed distance of `points` to the surface in `bvh`.

@@ -12,7 +12,9 @@ mod quality;
 mod report;
 mod run;
 
-pub use distance::{SurfaceDistances, surface_distances, surface_samples};
+pub use distance::{
+    SurfaceDistances, labelled_surface_samples, surface_distances, surface_samples,
+};
 pub use drift::{Drift, MaterialPoints};
 pub use error::EvalError;
 pub use quality::{ANGLE_BUCKETS, ASPECT_BUCKETS, TriangleQuality, triangle_quality};
