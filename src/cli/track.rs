@@ -394,8 +394,9 @@ fn commit_frame(
 fn log_line(log: &FrameLog) -> String {
     let e = &log.events;
     let t = &log.times;
+    let r = &log.reconciled;
     format!(
-        "frame {:4}: {:7} verts | split {} face {} collapse {} patch +{} -{} | residual {:.3} L (max {:.2}){} | register {:.0} improve {:.0} topology {:.0}+{:.0} total {:.0} ms",
+        "frame {:4}: {:7} verts | split {} face {} collapse {} patch +{} -{} | components +{} -{} replaced {} | residual {:.3} L (max {:.2}){} | register {:.0} improve {:.0} topology {:.0}+{:.0} total {:.0} ms",
         log.frame,
         log.vertices,
         e.split_edge,
@@ -403,6 +404,9 @@ fn log_line(log: &FrameLog) -> String {
         e.collapse,
         e.patch_created,
         e.patch_deleted,
+        r.inserted,
+        r.deleted,
+        r.replaced,
         log.residual_mean,
         log.residual_max,
         if log.registration_converged {
