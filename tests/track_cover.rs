@@ -1,7 +1,9 @@
 //! The fine stage's cover term (`src/register/fine.rs`) lets the tracked mesh follow a target
 //! feature no source normal ray reaches: `morph`'s dimple, which narrows and deepens over frames
 //! 14–23 until the hole opens. With the term every frame stays within 1 Δ of its input (issue 8,
-//! bar 1); with the paper's one-sided fit (`--cover-weight 0`) the mesh lags further behind.
+//! bar 1); with the paper's one-sided fit (`--cover-weight 0`) the mesh lags further behind. Both
+//! runs use `--fidelity grid`, so no component is replaced by the input's for lying too far: the
+//! distances are the registration's own.
 
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -26,7 +28,7 @@ fn hausdorff(input: &Path, out: &Path, extra: &[&str]) -> Vec<f64> {
         .arg(input)
         .arg("-o")
         .arg(out)
-        .args(["--backend", "cpu", "--quiet"])
+        .args(["--backend", "cpu", "--quiet", "--fidelity", "grid"])
         .args(extra));
     run(surftrack().arg("eval").arg(out).arg("--input").arg(input));
     let report: serde_json::Value =
