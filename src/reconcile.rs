@@ -296,32 +296,29 @@ pub fn reconcile_components(
 
     // Deletions: a replaced component's vertices take their data from its copy going backward;
     // any other deleted vertex from the nearest kept or copied vertex.
-    let mut deleted_with_copy = vec![false; ours.len()];
-    for (group, copy) in replaces.iter().zip(&copies) {
-        if group.is_empty() {
-            continue;
-        }
-        let copy = Survivors::new(copy.iter().map(|&i| (i, positions[i as usize])), spacing);
-        for &c in group {
-            deleted_with_copy[c] = true;
-            for &v in &ours[c].vertices {
-                let source = copy.nearest(current.positions[v as usize]);
-                events.push(Event::patch_deleted(
-                    id_of(v),
-                    source
-                        .map(|i| vec![(new_ids[i as usize], 1.0)])
-                        .unwrap_or_default(),
-                ));
-            }
-        }
-    }
     let after = Survivors::new(
         positions.iter().enumerate().map(|(i, &p)| (i as u32, p)),
         spacing,
     );
-    for c in (0..ours.len()).filter(|&c| delete[c] && !deleted_with_copy[c]) {
+    let copy_survivors: Vec<Survivors> = replaces
+        .iter()
+        .zip(&copies)
+        .filter(|(group, _)| !group.is_empty())
+        .map(|(_, copy)| Survivors::new(copy.iter().map(|&i| (i, positions[i as usize])), spacing))
+        .collect();
+    let mut source_of: Vec<&Survivors> = vec![&after; ours.len()];
+    for (group, survivors) in replaces
+        .iter()
+        .filter(|g| !g.is_empty())
+        .zip(&copy_survivors)
+    {
+        for &c in group {
+            source_of[c] = survivors;
+        }
+    }
+    for c in (0..ours.len()).filter(|&c| delete[c]) {
         for &v in &ours[c].vertices {
-            let source = after.nearest(current.positions[v as usize]);
+            let source = source_of[c].nearest(current.positions[v as usize]);
             events.push(Event::patch_deleted(
                 id_of(v),
                 source
