@@ -139,8 +139,7 @@ pub fn reconcile_components(
         backend,
         &current,
         &ours,
-        target,
-        &target_labels,
+        (target, &target_labels, theirs.len()),
         bvh,
         spacing,
     )?;
@@ -335,23 +334,18 @@ pub fn reconcile_components(
     Ok((events, counts))
 }
 
-/// The component of `target` each of `ours` lies on: each votes, vertex by vertex, for the target
-/// component within a cell; a large component votes with an evenly strided sample of its
-/// vertices. `None` where no component has a majority.
+/// The component of `target` (vertex labels `target_labels`, `theirs` components) each of `ours`
+/// lies on: each votes, vertex by vertex, for the target component within a cell; a large
+/// component votes with an evenly strided sample of its vertices. `None` where no component has
+/// a majority.
 fn match_components(
     backend: &Backend,
     current: &IndexedMesh,
     ours: &[Component],
-    target: &IndexedMesh,
-    target_labels: &[u32],
+    (target, target_labels, theirs): (&IndexedMesh, &[u32], usize),
     bvh: &Bvh,
     spacing: f32,
 ) -> Result<Vec<Option<usize>>, ReconcileError> {
-    let theirs = target_labels
-        .iter()
-        .map(|&l| l as usize + 1)
-        .max()
-        .unwrap_or(0);
     let sample: Vec<Vec<u32>> = ours
         .iter()
         .map(|c| {
