@@ -31,7 +31,6 @@
 //! channel stays constant, and colours stay near where they were.
 
 use crate::compute::Backend;
-use crate::eval::labelled_surface_samples;
 use crate::events::{Event, EventList};
 use crate::mesh::{IndexedMesh, Mesh, MeshError};
 use crate::project::{Bvh, ProjectError, closest_points};
@@ -380,8 +379,14 @@ fn match_components(
 }
 
 /// Which components of `mesh` (vertex labels `labels`, `count` components) reach farther than
-/// `max_distance` (world units) from the surface in `bvh`, measured as `eval` measures: at every
+/// `max_distance` (world units) from the surface in `bvh`, measured where `eval` measures: at every
 /// vertex, edge midpoint and triangle centroid.
+///
+/// Only vertices are queried first: distance to a surface is 1-Lipschitz, so a midpoint or
+/// centroid lies within `max_distance` when one of its triangle's vertices lies within
+/// `max_distance` minus its offset from that vertex. Only the samples this leaves open are
+/// queried, which on a tracked frame are almost none, so the check costs about one query per
+/// vertex instead of four.
 fn far_components(
     backend: &Backend,
     bvh: &Bvh,
@@ -390,15 +395,55 @@ fn far_components(
     count: usize,
     max_distance: f32,
 ) -> Result<Vec<bool>, ReconcileError> {
-    let (points, owners) = labelled_surface_samples(mesh, labels);
     let reach = max_distance / bvh.mean_edge_length();
-    let nearest = closest_points(backend, bvh, &points, reach)?;
+    let distance: Vec<f32> = closest_points(backend, bvh, &mesh.positions, reach)?
+        .iter()
+        .map(|hit| match hit.hit_triangle() {
+            Some(_) => hit.distance.abs(),
+            None => f32::INFINITY,
+        })
+        .collect();
     let mut far = vec![false; count];
-    for (hit, &owner) in nearest.iter().zip(&owners) {
-        if hit.hit_triangle().is_none()
-            && let Some(f) = far.get_mut(owner as usize)
-        {
+    let mut mark = |label: Option<&u32>| {
+        if let Some(f) = label.and_then(|&k| far.get_mut(k as usize)) {
             *f = true;
+        }
+    };
+    for (v, d) in distance.iter().enumerate() {
+        if d.is_infinite() {
+            mark(labels.get(v));
+        }
+    }
+    // A margin for rounding, so a bound never admits a sample the query would reject.
+    let bounded = max_distance * (1.0 - 1e-4);
+    let within = |p: Vec3, corners: &[u32]| {
+        corners
+            .iter()
+            .any(|&v| distance[v as usize] + (p - mesh.positions[v as usize]).length() <= bounded)
+    };
+    let (mut open, mut owners) = (Vec::new(), Vec::new());
+    for tri in &mesh.triangles {
+        let p = tri.map(|v| mesh.positions[v as usize]);
+        let centroid = (p[0] + p[1] + p[2]) / 3.0;
+        let midpoints = (0..3)
+            .filter(|&k| tri[k] < tri[(k + 1) % 3])
+            .map(|k| (p[k] + p[(k + 1) % 3]) * 0.5);
+        for s in std::iter::once(centroid).chain(midpoints) {
+            if !within(s, tri) {
+                open.push(s);
+                owners.push(labels.get(tri[0] as usize).copied().unwrap_or(u32::MAX));
+            }
+        }
+    }
+    if open.is_empty() {
+        return Ok(far);
+    }
+    for (hit, owner) in closest_points(backend, bvh, &open, reach)?
+        .iter()
+        .zip(&owners)
+    {
+        if hit.hit_triangle().is_none() {
+            mark(Some(owner));
         }
     }
     Ok(far)
