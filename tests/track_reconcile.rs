@@ -68,7 +68,8 @@ fn droplets_below_the_grid_follow_the_target() {
         ReconcileCounts {
             deleted: 1,
             inserted: 1,
-            replaced: 0
+            replaced: 0,
+            grafted: 0
         }
     );
     let out = mesh.to_indexed();
@@ -189,7 +190,8 @@ fn a_large_component_with_another_topology_is_replaced_and_keeps_its_data() {
         ReconcileCounts {
             deleted: 0,
             inserted: 0,
-            replaced: 1
+            replaced: 1,
+            grafted: 0
         }
     );
     let out = mesh.to_indexed();
@@ -227,4 +229,84 @@ fn a_component_farther_than_the_bound_is_replaced() {
         ReconcileCounts::default(),
         "grid fidelity ignores the bound"
     );
+}
+
+/// A unit sphere with a smooth bump of height `height` around +z (within `degrees` of it).
+fn bumped_sphere(subdivisions: u32, height: f32, degrees: f32) -> IndexedMesh {
+    let sphere = IndexedMesh::icosphere(Vec3::ZERO, 1.0, subdivisions);
+    let edge = degrees.to_radians().cos();
+    IndexedMesh {
+        positions: sphere
+            .positions
+            .iter()
+            .map(|p| {
+                let t = ((p.normalize().z - edge) / (1.0 - edge)).max(0.0);
+                *p * (1.0 + height * t * t)
+            })
+            .collect(),
+        ..sphere
+    }
+}
+
+#[test]
+fn a_local_difference_is_grafted_and_the_rest_keeps_its_vertices() {
+    // The input has a bump the tracked sphere lacks, farther than the bound: only the cells
+    // around it take the input's triangles.
+    let ours = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 4);
+    let target = bumped_sphere(4, 0.4, 25.0);
+    let (before, mesh, counts, events) = run_with(&ours, &target, 0.25, 0.15, Fidelity::Input);
+    assert_eq!(
+        counts,
+        ReconcileCounts {
+            deleted: 0,
+            inserted: 0,
+            replaced: 0,
+            grafted: 1
+        }
+    );
+    let out = mesh.to_indexed();
+    out.validate().unwrap();
+    let topology = out.topology();
+    assert_eq!(topology.components.len(), 1);
+    assert_eq!(topology.euler(), 2);
+
+    // Most of the sphere keeps its vertices, ids and positions.
+    let ids_before = before.to_indexed().ids.unwrap();
+    let ids_after = out.ids.clone().unwrap();
+    let kept = ids_before
+        .iter()
+        .filter(|id| ids_after.contains(id))
+        .count();
+    assert!(
+        kept * 10 > ids_before.len() * 8,
+        "{kept} of {} vertices kept",
+        ids_before.len()
+    );
+    for (id, p) in ids_after.iter().zip(&out.positions) {
+        if let Some(v) = ids_before.iter().position(|b| b == id) {
+            assert_eq!(*p, ours.positions[v]);
+        }
+    }
+
+    // Within the bound of the input both ways, at every vertex.
+    let near = |from: &IndexedMesh, to: &IndexedMesh| {
+        let bvh = Bvh::build(to).unwrap();
+        surftrack::project::closest_points(&Backend::Cpu, &bvh, &from.positions, f32::INFINITY)
+            .unwrap()
+            .iter()
+            .map(|hit| hit.distance.abs())
+            .fold(0.0f32, f32::max)
+    };
+    assert!(near(&out, &target) <= 0.15, "{}", near(&out, &target));
+    assert!(near(&target, &out) <= 0.15, "{}", near(&target, &out));
+
+    events.check().unwrap();
+    let mut values = constant(&ids_before);
+    forward(&events, &mut values).unwrap();
+    assert_constant(&values, &ids_after);
+    backward(&events, &mut values).unwrap();
+    assert_constant(&values, &ids_before);
+    let (_, mut values) = x_values(&before);
+    forward(&events, &mut values).unwrap();
+    assert_nearest_x(&mesh, &before, &values, "forward");
 }

@@ -16,8 +16,9 @@
 //!   one is deleted;
 //! * a component whose match it does not reproduce — another Euler characteristic, another large
 //!   component on the same match (a bridge below the grid), or a sample of either surface farther
-//!   than `max_distance` from the other (a sheet below the grid) — is replaced by a copy of its
-//!   match.
+//!   than `max_distance` from the other (a sheet below the grid) — takes its match's triangles
+//!   only in the cells around the difference ([`graft`]), keeping its own vertices elsewhere, or,
+//!   where no graft meets the bounds, is replaced by a whole copy of its match.
 //!
 //! Everything the grid resolves was already resolved by `ConstrainTopology`, so replacement is the
 //! exception on clean input and the guarantee on real data: afterwards `M` has the input's
@@ -32,9 +33,13 @@
 
 use crate::compute::Backend;
 use crate::events::{Event, EventList};
+use crate::grid::RasterError;
 use crate::mesh::{IndexedMesh, Mesh, MeshError};
 use crate::project::{Bvh, ProjectError, closest_points};
 use crate::topology::nearest::Survivors;
+use graft::{Bounds, Corner, Graft, Side};
+
+mod graft;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -65,13 +70,16 @@ pub struct ReconcileCounts {
     pub deleted: usize,
     /// Components of `T` copied in (no component of `M` on them).
     pub inserted: usize,
-    /// Small components of `M` replaced by their match (Euler characteristic unlike it).
+    /// Components of `M` replaced whole by a copy of their match.
     pub replaced: usize,
+    /// Components of `M` that took their match's triangles only where the two differ.
+    #[serde(default)]
+    pub grafted: usize,
 }
 
 impl ReconcileCounts {
     pub fn changed(&self) -> bool {
-        self.deleted + self.inserted + self.replaced > 0
+        self.deleted + self.inserted + self.replaced + self.grafted > 0
     }
 }
 
@@ -81,6 +89,8 @@ pub enum ReconcileError {
     Project(#[from] ProjectError),
     #[error("rebuilding the mesh: {0}")]
     Mesh(#[from] MeshError),
+    #[error("comparing the surfaces on the grid: {0}")]
+    Raster(#[from] RasterError),
 }
 
 /// One component of a mesh: its vertices (indices), Euler characteristic and extent.
@@ -142,51 +152,87 @@ pub fn reconcile_components(
         bvh,
         spacing,
     )?;
-    let (our_far, their_far) = match fidelity {
-        Fidelity::Grid => (vec![false; ours.len()], vec![false; theirs.len()]),
-        Fidelity::Input if current.triangles.is_empty() => {
-            (vec![false; ours.len()], vec![true; theirs.len()])
-        }
-        Fidelity::Input => (
-            far_components(
-                backend,
-                bvh,
-                &current,
-                &our_labels,
-                ours.len(),
-                max_distance,
-            )?,
-            far_components(
-                backend,
-                &Bvh::build(&current)?,
-                target,
-                &target_labels,
-                theirs.len(),
-                max_distance,
-            )?,
-        ),
-    };
-
-    // Decide, per component of theirs, which of ours stay on it, or whether a copy replaces them.
-    let mut delete = vec![false; ours.len()];
-    let mut insert = vec![false; theirs.len()];
-    let mut replaces: Vec<Vec<usize>> = vec![Vec::new(); theirs.len()];
-    let mut counts = ReconcileCounts::default();
+    let our_triangles = triangles_by_component(&current, &our_labels, ours.len());
     let mut members: Vec<Vec<usize>> = vec![Vec::new(); theirs.len()];
     for (c, m) in matched.iter().enumerate() {
-        match *m {
-            None => {
-                delete[c] = true;
-                counts.deleted += 1;
-            }
-            Some(k) => members[k].push(c),
+        if let Some(k) = *m {
+            members[k].push(c);
         }
     }
+    let largest: Vec<Option<usize>> = members
+        .iter()
+        .map(|group| {
+            group
+                .iter()
+                .copied()
+                .max_by_key(|&c| (ours[c].vertices.len(), std::cmp::Reverse(c)))
+        })
+        .collect();
+    let (our_far, their_far) = match fidelity {
+        Fidelity::Input if !current.triangles.is_empty() => {
+            // The input is measured against what stays if every group is faithful: without the
+            // unmatched components and the small duplicates, which are deleted then.
+            let ours = &ours;
+            let stays: Vec<u32> = members
+                .iter()
+                .zip(&largest)
+                .flat_map(|(group, &l)| {
+                    group
+                        .iter()
+                        .copied()
+                        .filter(move |&c| Some(c) == l || ours[c].diagonal > small)
+                })
+                .flat_map(|c| our_triangles[c].iter().copied())
+                .collect();
+            let staying = graft::submesh(&current, &stays);
+            (
+                far_components(
+                    backend,
+                    bvh,
+                    &current,
+                    &our_labels,
+                    ours.len(),
+                    max_distance,
+                )?,
+                if staying.triangles.is_empty() {
+                    theirs
+                        .iter()
+                        .map(|c| {
+                            c.vertices
+                                .iter()
+                                .map(|&v| target.positions[v as usize])
+                                .collect()
+                        })
+                        .collect()
+                } else {
+                    far_components(
+                        backend,
+                        &Bvh::build(&staying)?,
+                        target,
+                        &target_labels,
+                        theirs.len(),
+                        max_distance,
+                    )?
+                },
+            )
+        }
+        _ => (vec![Vec::new(); ours.len()], vec![Vec::new(); theirs.len()]),
+    };
+    let their_triangles = triangles_by_component(target, &target_labels, theirs.len());
+
+    // Decide, per component of theirs, which of ours stay on it, or whether a copy replaces them,
+    // whole or grafted.
+    let mut delete = vec![false; ours.len()];
+    let mut insert = vec![false; theirs.len()];
+    let mut grafts: Vec<Option<Graft>> = (0..theirs.len()).map(|_| None).collect();
+    let mut replaces: Vec<Vec<usize>> = vec![Vec::new(); theirs.len()];
+    let mut counts = ReconcileCounts::default();
+    for (c, _) in matched.iter().enumerate().filter(|(_, m)| m.is_none()) {
+        delete[c] = true;
+        counts.deleted += 1;
+    }
     for (k, group) in members.iter().enumerate() {
-        let Some(&largest) = group
-            .iter()
-            .max_by_key(|&&c| (ours[c].vertices.len(), std::cmp::Reverse(c)))
-        else {
+        let Some(largest) = largest[k] else {
             insert[k] = true;
             counts.inserted += 1;
             continue;
@@ -195,8 +241,8 @@ pub fn reconcile_components(
         let faithful = match fidelity {
             Fidelity::Input => {
                 ours[largest].euler == theirs[k].euler
-                    && !our_far[largest]
-                    && !their_far[k]
+                    && our_far[largest].is_empty()
+                    && their_far[k].is_empty()
                     && others.clone().all(|c| ours[c].diagonal <= small)
             }
             Fidelity::Grid => {
@@ -210,26 +256,80 @@ pub fn reconcile_components(
                 delete[c] = true;
                 counts.deleted += 1;
             }
-        } else {
-            for &c in group {
-                delete[c] = true;
+            continue;
+        }
+        let grafted = match fidelity {
+            Fidelity::Input => {
+                let far: Vec<Vec3> = group
+                    .iter()
+                    .flat_map(|&c| &our_far[c])
+                    .chain(&their_far[k])
+                    .copied()
+                    .collect();
+                graft::graft(
+                    &Side {
+                        mesh: &current,
+                        triangles: group
+                            .iter()
+                            .flat_map(|&c| &our_triangles[c])
+                            .copied()
+                            .collect(),
+                    },
+                    &Side {
+                        mesh: target,
+                        triangles: their_triangles[k].clone(),
+                    },
+                    &far,
+                    &Bounds {
+                        backend,
+                        target_bvh: bvh,
+                        spacing,
+                        max_distance,
+                        euler: theirs[k].euler,
+                    },
+                )?
             }
+            Fidelity::Grid => None,
+        };
+        for &c in group {
+            delete[c] = true;
+        }
+        replaces[k] = group.clone();
+        if grafted.is_some() {
+            counts.grafted += 1;
+        } else {
             insert[k] = true;
-            replaces[k] = group.clone();
             counts.replaced += 1;
         }
+        grafts[k] = grafted;
     }
     if !counts.changed() {
         return Ok((EventList::new(), counts));
     }
 
-    // The new surface: our kept components, then copies of the inserted ones.
+    // The new surface: our kept triangles, then per component of theirs its copied triangles and
+    // the strips joining them to ours.
     let ids = current.ids.as_deref().unwrap_or_default();
     let id_of = |v: u32| ids.get(v as usize).copied().unwrap_or(u64::from(v));
-    let mut keep = vec![true; current.positions.len()];
-    for c in (0..ours.len()).filter(|&c| delete[c]) {
-        for &v in &ours[c].vertices {
-            keep[v as usize] = false;
+    let mut keep_triangle: Vec<bool> = current
+        .triangles
+        .iter()
+        .map(|t| !delete[our_labels[t[0] as usize] as usize])
+        .collect();
+    for g in grafts.iter().flatten() {
+        for &t in &g.kept {
+            keep_triangle[t as usize] = true;
+        }
+    }
+    let mut keep = vec![false; current.positions.len()];
+    for (tri, _) in current
+        .triangles
+        .iter()
+        .zip(&keep_triangle)
+        .filter(|(_, k)| **k)
+    {
+        for &v in tri {
+            keep[v as usize] = true;
         }
     }
     let mut index = vec![u32::MAX; current.positions.len()];
@@ -242,8 +342,9 @@ pub fn reconcile_components(
     let mut triangles: Vec<[u32; 3]> = current
         .triangles
         .iter()
-        .filter(|t| keep[t[0] as usize])
-        .map(|t| t.map(|v| index[v as usize]))
+        .zip(&keep_triangle)
+        .filter(|(_, k)| **k)
+        .map(|(t, _)| t.map(|v| index[v as usize]))
         .collect();
     // Every vertex exists when the creations are applied going forward; every kept vertex and
     // every copy when the deletions are undone going backward.
@@ -256,13 +357,30 @@ pub fn reconcile_components(
         spacing,
     );
 
-    // Creations: a copy of a replaced component takes its data from the component it replaces,
-    // any other copy from the nearest vertex.
+    // Creations: a copied vertex takes its data from the component it replaces or is grafted
+    // into, any other copy from the nearest vertex.
     let mut events = EventList::new();
     let mut next_id = mesh.next_id();
     let mut target_index = vec![u32::MAX; target.positions.len()];
-    let mut copies: Vec<Vec<u32>> = vec![Vec::new(); theirs.len()];
-    for k in (0..theirs.len()).filter(|&k| insert[k]) {
+    let mut survivors_of: Vec<Vec<u32>> = vec![Vec::new(); theirs.len()];
+    for k in (0..theirs.len()).filter(|&k| insert[k] || grafts[k].is_some()) {
+        let copied: Vec<u32> = match &grafts[k] {
+            Some(g) => {
+                let mut used: Vec<u32> = g
+                    .copied
+                    .iter()
+                    .flat_map(|&t| target.triangles[t as usize])
+                    .chain(g.zip.iter().flatten().filter_map(|c| match *c {
+                        Corner::Theirs(v) => Some(v),
+                        Corner::Ours(_) => None,
+                    }))
+                    .collect();
+                used.sort_unstable();
+                used.dedup();
+                used
+            }
+            None => theirs[k].vertices.clone(),
+        };
         let replaced = Survivors::new(
             replaces[k]
                 .iter()
@@ -270,11 +388,11 @@ pub fn reconcile_components(
                 .map(|&v| (v, current.positions[v as usize])),
             spacing,
         );
-        for &v in &theirs[k].vertices {
+        for v in copied {
             let p = target.positions[v as usize];
             let source = replaced.nearest(p).or_else(|| before.nearest(p)).map(id_of);
             target_index[v as usize] = positions.len() as u32;
-            copies[k].push(positions.len() as u32);
+            survivors_of[k].push(positions.len() as u32);
             positions.push(p);
             new_ids.push(next_id);
             events.push(Event::patch_created(
@@ -283,39 +401,54 @@ pub fn reconcile_components(
             ));
             next_id += 1;
         }
+        let corner = |c: Corner| match c {
+            Corner::Ours(v) => index[v as usize],
+            Corner::Theirs(v) => target_index[v as usize],
+        };
+        match &grafts[k] {
+            Some(g) => {
+                triangles.extend(
+                    g.copied
+                        .iter()
+                        .map(|&t| target.triangles[t as usize].map(|v| target_index[v as usize])),
+                );
+                triangles.extend(g.zip.iter().map(|t| t.map(corner)));
+                survivors_of[k].extend(
+                    replaces[k]
+                        .iter()
+                        .flat_map(|&c| &ours[c].vertices)
+                        .filter(|&&v| keep[v as usize])
+                        .map(|&v| index[v as usize]),
+                );
+            }
+            None => triangles.extend(
+                their_triangles[k]
+                    .iter()
+                    .map(|&t| target.triangles[t as usize].map(|v| target_index[v as usize])),
+            ),
+        }
     }
-    triangles.extend(
-        target
-            .triangles
-            .iter()
-            .filter(|t| target_index[t[0] as usize] != u32::MAX)
-            .map(|t| t.map(|v| target_index[v as usize])),
-    );
 
-    // Deletions: a replaced component's vertices take their data from its copy going backward;
-    // any other deleted vertex from the nearest kept or copied vertex.
+    // Deletions: a vertex of a replaced or grafted component takes its data from that component's
+    // result going backward; any other deleted vertex from the nearest kept or copied vertex.
     let after = Survivors::new(
         positions.iter().enumerate().map(|(i, &p)| (i as u32, p)),
         spacing,
     );
-    let copy_survivors: Vec<Survivors> = replaces
+    let results: Vec<Survivors> = replaces
         .iter()
-        .zip(&copies)
+        .zip(&survivors_of)
         .filter(|(group, _)| !group.is_empty())
-        .map(|(_, copy)| Survivors::new(copy.iter().map(|&i| (i, positions[i as usize])), spacing))
+        .map(|(_, s)| Survivors::new(s.iter().map(|&i| (i, positions[i as usize])), spacing))
         .collect();
     let mut source_of: Vec<&Survivors> = vec![&after; ours.len()];
-    for (group, survivors) in replaces
-        .iter()
-        .filter(|g| !g.is_empty())
-        .zip(&copy_survivors)
-    {
+    for (group, survivors) in replaces.iter().filter(|g| !g.is_empty()).zip(&results) {
         for &c in group {
             source_of[c] = survivors;
         }
     }
     for c in (0..ours.len()).filter(|&c| delete[c]) {
-        for &v in &ours[c].vertices {
+        for &v in ours[c].vertices.iter().filter(|&&v| !keep[v as usize]) {
             let source = source_of[c].nearest(current.positions[v as usize]);
             events.push(Event::patch_deleted(
                 id_of(v),
@@ -331,6 +464,20 @@ pub fn reconcile_components(
     replacement.reserve_ids_below(next_id);
     *mesh = replacement;
     Ok((events, counts))
+}
+
+/// The triangles (indices) of each of `count` components, by the label of their first vertex.
+fn triangles_by_component(mesh: &IndexedMesh, labels: &[u32], count: usize) -> Vec<Vec<u32>> {
+    let mut out = vec![Vec::new(); count];
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        if let Some(list) = labels
+            .get(tri[0] as usize)
+            .and_then(|&k| out.get_mut(k as usize))
+        {
+            list.push(t as u32);
+        }
+    }
+    out
 }
 
 /// The component of `target` (vertex labels `target_labels`, `theirs` components) each of `ours`
@@ -378,8 +525,8 @@ fn match_components(
     Ok(matched)
 }
 
-/// Which components of `mesh` (vertex labels `labels`, `count` components) reach farther than
-/// `max_distance` (world units) from the surface in `bvh`, measured where `eval` measures: at every
+/// The samples of each component of `mesh` (vertex labels `labels`, `count` components) farther
+/// than `max_distance` (world units) from the surface in `bvh`, measured where `eval` measures: at every
 /// vertex, edge midpoint and triangle centroid.
 ///
 /// Only vertices are queried first: distance to a surface is 1-Lipschitz, so a midpoint or
@@ -394,7 +541,7 @@ fn far_components(
     labels: &[u32],
     count: usize,
     max_distance: f32,
-) -> Result<Vec<bool>, ReconcileError> {
+) -> Result<Vec<Vec<Vec3>>, ReconcileError> {
     let reach = max_distance / bvh.mean_edge_length();
     let distance: Vec<f32> = closest_points(backend, bvh, &mesh.positions, reach)?
         .iter()
@@ -403,15 +550,15 @@ fn far_components(
             None => f32::INFINITY,
         })
         .collect();
-    let mut far = vec![false; count];
-    let mut mark = |label: Option<&u32>| {
+    let mut far: Vec<Vec<Vec3>> = vec![Vec::new(); count];
+    let mut mark = |label: Option<&u32>, p: Vec3| {
         if let Some(f) = label.and_then(|&k| far.get_mut(k as usize)) {
-            *f = true;
+            f.push(p);
         }
     };
     for (v, d) in distance.iter().enumerate() {
         if d.is_infinite() {
-            mark(labels.get(v));
+            mark(labels.get(v), mesh.positions[v]);
         }
     }
     // A margin for rounding, so a bound never admits a sample the query would reject.
@@ -438,12 +585,10 @@ fn far_components(
     if open.is_empty() {
         return Ok(far);
     }
-    for (hit, owner) in closest_points(backend, bvh, &open, reach)?
-        .iter()
-        .zip(&owners)
-    {
+    let found = closest_points(backend, bvh, &open, reach)?;
+    for ((hit, owner), &p) in found.iter().zip(&owners).zip(&open) {
         if hit.hit_triangle().is_none() {
-            mark(Some(owner));
+            mark(Some(owner), p);
         }
     }
     Ok(far)

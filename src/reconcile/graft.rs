@@ -1,0 +1,709 @@
+//! Grafting the input into a component only where the grid cannot tell them apart.
+//!
+//! Replacing a whole component (see the module above) meets the input's topology and distance,
+//! but renumbers every vertex of it: on a fluid cache, whose main body has a thin sheet or a
+//! pinched tunnel somewhere in nearly every frame, that costs the coherence the tracker exists
+//! for. The difference is almost always local, so the graft copies the input only in a *region*
+//! of grid cells around it and keeps the tracked surface everywhere else, like the patches of
+//! paper §4.4 but with the input's own triangles as the patch:
+//!
+//! 1. The region is seeded where the two surfaces differ below the grid: a grid edge one of them
+//!    crosses at least twice and the other a different number of times (a sheet, tunnel or
+//!    bridge thinner than a cell), and the cell of every sample farther than the distance bound
+//!    from the other surface. It grows by one cell in every direction.
+//! 2. The tracked triangles with no vertex in the region are kept; the input's triangles with all
+//!    their vertices in it are copied, so the two pieces never overlap and a gap of about one
+//!    edge separates their boundaries. Pieces of either side too small to stand on their own,
+//!    and boundary vertices that are pinched (two boundary edges leaving them), move into the
+//!    region until both sides are clean.
+//! 3. Each boundary loop of the kept side is paired with the copied side's loop that lies closest
+//!    to it (each must be the other's nearest) and the two are zipped with the strip of triangles
+//!    of least cost, found by dynamic programming as in optimal contour stitching: thin triangles
+//!    and triangles turned against the boundary cost most.
+//! 4. The result must be closed, manifold, one component with the input's Euler characteristic,
+//!    and within the distance bound of the input both ways.
+//!
+//! Where step 3 leaves a loop without a partner (the two surfaces cross the region's rim
+//! differently there) or step 4 finds samples beyond the bound, the region grows around them and
+//! steps 2–4 run again, a few times at most; otherwise the caller replaces the whole component.
+
+use std::collections::{HashMap, HashSet};
+
+use glam::Vec3;
+
+use super::{ReconcileError, far_components};
+use crate::compute::Backend;
+use crate::grid::{GridFrame, LatticeMesh, cross_axes, rasterize};
+use crate::mesh::{IndexedMesh, min_angle_degrees};
+use crate::project::Bvh;
+
+/// Edge-connected pieces smaller than this many triangles join the region: they are slivers
+/// between region cells, not surface worth keeping apart from the rest.
+const MIN_PIECE: usize = 64;
+
+/// Most clean-up rounds of step 2; each only grows the region, so they end quickly.
+const ROUNDS: usize = 8;
+
+/// Loops compared in full (by mean vertex distance) for each loop, the nearest by centroid.
+const CANDIDATES: usize = 4;
+
+/// A vertex of the grafted surface: one of the tracked mesh's or one of the input's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub(super) enum Corner {
+    Ours(u32),
+    Theirs(u32),
+}
+
+/// What a graft keeps, copies and adds.
+pub(super) struct Graft {
+    /// Triangles of the tracked mesh kept (indices into its triangle list).
+    pub kept: Vec<u32>,
+    /// Triangles of the input copied (indices into its triangle list).
+    pub copied: Vec<u32>,
+    /// The strips joining the two.
+    pub zip: Vec<[Corner; 3]>,
+}
+
+/// One side of a graft: a mesh and the triangles (indices) of the component(s) involved.
+pub(super) struct Side<'a> {
+    pub mesh: &'a IndexedMesh,
+    pub triangles: Vec<u32>,
+}
+
+/// The bounds a graft must meet.
+pub(super) struct Bounds<'a> {
+    pub backend: &'a Backend,
+    /// The input's tree, for the distance check of the result.
+    pub target_bvh: &'a Bvh,
+    pub spacing: f32,
+    pub max_distance: f32,
+    /// The Euler characteristic of the input's component.
+    pub euler: i64,
+}
+
+/// Grafts `theirs` into `ours` around the samples `far` (farther than the bound from the other
+/// surface) and the grid edges the two cross differently; `None` when the result would not meet
+/// the bounds (see the module comment), or when there is nothing local to graft.
+pub(super) fn graft(
+    ours: &Side,
+    theirs: &Side,
+    far: &[Vec3],
+    bounds: &Bounds,
+) -> Result<Option<Graft>, ReconcileError> {
+    let frame = GridFrame::new(Vec3::ZERO, bounds.spacing)?;
+    let mut region = region(bounds.backend, &frame, ours, theirs, far)?;
+    if region.is_empty() {
+        return Ok(None);
+    }
+    for _ in 0..GROWTHS {
+        let trouble = match attempt(&frame, &region, ours, theirs) {
+            Attempt::Hopeless => return Ok(None),
+            Attempt::Unpaired(points) => points,
+            Attempt::Joined(graft) => match check(&graft, ours.mesh, theirs, bounds)? {
+                Verdict::Meets => return Ok(Some(graft)),
+                Verdict::Fails => return Ok(None),
+                Verdict::Far(points) => points,
+            },
+        };
+        grow(&mut region, trouble.iter().map(|&p| cell(&frame, p)));
+    }
+    Ok(None)
+}
+
+/// Most times step 3 or 4 may grow the region around where it failed and try again.
+const GROWTHS: usize = 12;
+
+/// How one try at steps 2 and 3 ended.
+enum Attempt {
+    /// Nothing is left to keep or to copy, or a boundary is not a simple loop.
+    Hopeless,
+    /// These boundary loops (their points) found no partner on the other side.
+    Unpaired(Vec<Vec3>),
+    Joined(Graft),
+}
+
+/// Steps 2 and 3 of the module comment for one region.
+fn attempt(frame: &GridFrame, region: &HashSet<[i32; 3]>, ours: &Side, theirs: &Side) -> Attempt {
+    let inside = |cells: &HashSet<[i32; 3]>, mesh: &IndexedMesh, v: u32| {
+        cells.contains(&cell(frame, mesh.positions[v as usize]))
+    };
+    let mut kept: Vec<bool> = ours
+        .triangles
+        .iter()
+        .map(|&t| {
+            !ours.mesh.triangles[t as usize]
+                .iter()
+                .any(|&v| inside(region, ours.mesh, v))
+        })
+        .collect();
+    let mut copied: Vec<bool> = theirs
+        .triangles
+        .iter()
+        .map(|&t| {
+            theirs.mesh.triangles[t as usize]
+                .iter()
+                .all(|&v| inside(region, theirs.mesh, v))
+        })
+        .collect();
+    for _ in 0..ROUNDS {
+        if !clean(ours, theirs, &mut kept, &mut copied) {
+            break;
+        }
+    }
+    if !kept.contains(&true) || !copied.contains(&true) {
+        return Attempt::Hopeless;
+    }
+    let (Some(our_loops), Some(their_loops)) =
+        (boundary_loops(ours, &kept), boundary_loops(theirs, &copied))
+    else {
+        return Attempt::Hopeless;
+    };
+    let (pairs, unpaired) = pair_loops(ours.mesh, &our_loops, theirs.mesh, &their_loops);
+    if !unpaired.is_empty() {
+        return Attempt::Unpaired(unpaired);
+    }
+    let (our_normals, their_normals) = (rim_normals(ours, &kept), rim_normals(theirs, &copied));
+    let mut zip = Vec::new();
+    for (a, c) in pairs {
+        zip_loops(
+            &Rim {
+                mesh: ours.mesh,
+                points: our_loops[a].clone(),
+                normals: &our_normals,
+            },
+            &Rim {
+                mesh: theirs.mesh,
+                points: their_loops[c].clone(),
+                normals: &their_normals,
+            },
+            &mut zip,
+        );
+    }
+    let chosen = |side: &Side, mask: &[bool]| -> Vec<u32> {
+        side.triangles
+            .iter()
+            .zip(mask)
+            .filter(|(_, m)| **m)
+            .map(|(&t, _)| t)
+            .collect()
+    };
+    Attempt::Joined(Graft {
+        kept: chosen(ours, &kept),
+        copied: chosen(theirs, &copied),
+        zip,
+    })
+}
+
+/// Adds the cells `seeds` and their 26 neighbours to `region`.
+fn grow(region: &mut HashSet<[i32; 3]>, seeds: impl IntoIterator<Item = [i32; 3]>) {
+    for s in seeds {
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    region.insert([s[0] + dx, s[1] + dy, s[2] + dz]);
+                }
+            }
+        }
+    }
+}
+
+/// The grid cell holding `p`.
+fn cell(frame: &GridFrame, p: Vec3) -> [i32; 3] {
+    frame.to_grid(p).map(|x| x.floor() as i32)
+}
+
+/// The mesh made of `triangles` of `mesh`, with only the vertices they use (in index order).
+pub(super) fn submesh(mesh: &IndexedMesh, triangles: &[u32]) -> IndexedMesh {
+    let mut index = vec![u32::MAX; mesh.positions.len()];
+    for &t in triangles {
+        for v in mesh.triangles[t as usize] {
+            index[v as usize] = 0;
+        }
+    }
+    let mut positions = Vec::new();
+    for (v, slot) in index.iter_mut().enumerate() {
+        if *slot == 0 {
+            *slot = positions.len() as u32;
+            positions.push(mesh.positions[v]);
+        }
+    }
+    let triangles = triangles
+        .iter()
+        .map(|&t| mesh.triangles[t as usize].map(|v| index[v as usize]))
+        .collect();
+    IndexedMesh::new(positions, triangles)
+}
+
+/// How many times the surface crosses each grid edge it crosses, keyed by (lower corner, axis).
+fn crossing_counts(
+    backend: &Backend,
+    frame: &GridFrame,
+    side: &Side,
+) -> Result<HashMap<([i32; 3], usize), u32>, ReconcileError> {
+    let lattice = LatticeMesh::new(*frame, &submesh(side.mesh, &side.triangles))?;
+    let mut counts = HashMap::new();
+    for crossing in rasterize(backend, &lattice)?.all() {
+        *counts
+            .entry((crossing.corner, crossing.axis()))
+            .or_insert(0) += 1;
+    }
+    Ok(counts)
+}
+
+/// Step 1 of the module comment: the cells where the surfaces differ below the grid, grown by one.
+fn region(
+    backend: &Backend,
+    frame: &GridFrame,
+    ours: &Side,
+    theirs: &Side,
+    far: &[Vec3],
+) -> Result<HashSet<[i32; 3]>, ReconcileError> {
+    let our_counts = crossing_counts(backend, frame, ours)?;
+    let their_counts = crossing_counts(backend, frame, theirs)?;
+    let mut seeds: HashSet<[i32; 3]> = far.iter().map(|&p| cell(frame, p)).collect();
+    let differs = |n: u32, m: u32| n != m && n.max(m) >= 2;
+    let edges = our_counts
+        .iter()
+        .filter(|(key, n)| differs(**n, their_counts.get(key).copied().unwrap_or(0)))
+        .chain(
+            their_counts
+                .iter()
+                .filter(|(key, m)| !our_counts.contains_key(key) && differs(0, **m)),
+        );
+    for ((corner, axis), _) in edges {
+        // The four cells around the edge.
+        let (b, c) = cross_axes(*axis);
+        for (db, dc) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            let mut around = *corner;
+            around[b] -= db;
+            around[c] -= dc;
+            seeds.insert(around);
+        }
+    }
+    let mut region = HashSet::with_capacity(seeds.len() * 27);
+    grow(&mut region, seeds);
+    Ok(region)
+}
+
+/// The edge-connected pieces of the triangles of `side` selected by `mask`, as indices into
+/// `side.triangles`, in order of their first triangle.
+fn pieces(side: &Side, mask: &[bool]) -> Vec<Vec<usize>> {
+    let mut parent: Vec<usize> = (0..mask.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let mut first: HashMap<(u32, u32), usize> = HashMap::new();
+    for (i, &t) in side.triangles.iter().enumerate().filter(|(i, _)| mask[*i]) {
+        let tri = side.mesh.triangles[t as usize];
+        for k in 0..3 {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            let j = *first.entry((a.min(b), a.max(b))).or_insert(i);
+            let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+            parent[ri.max(rj)] = ri.min(rj);
+        }
+    }
+    let mut slot: HashMap<usize, usize> = HashMap::new();
+    let mut out: Vec<Vec<usize>> = Vec::new();
+    for i in (0..mask.len()).filter(|&i| mask[i]) {
+        let r = root(&mut parent, i);
+        let s = *slot.entry(r).or_insert_with(|| {
+            out.push(Vec::new());
+            out.len() - 1
+        });
+        out[s].push(i);
+    }
+    out
+}
+
+/// The half-edges of the selected triangles whose twin is not selected, in triangle order.
+fn free_half_edges(side: &Side, mask: &[bool]) -> Vec<(u32, u32)> {
+    let selected = || {
+        side.triangles
+            .iter()
+            .zip(mask)
+            .filter(|(_, m)| **m)
+            .map(|(&t, _)| side.mesh.triangles[t as usize])
+    };
+    let present: HashSet<(u32, u32)> = selected()
+        .flat_map(|tri| (0..3).map(move |k| (tri[k], tri[(k + 1) % 3])))
+        .collect();
+    selected()
+        .flat_map(|tri| (0..3).map(move |k| (tri[k], tri[(k + 1) % 3])))
+        .filter(|&(a, b)| !present.contains(&(b, a)))
+        .collect()
+}
+
+/// Boundary vertices with more than one free half-edge leaving them.
+fn pinched(side: &Side, mask: &[bool]) -> HashSet<u32> {
+    let mut leaving: HashMap<u32, usize> = HashMap::new();
+    for (a, _) in free_half_edges(side, mask) {
+        *leaving.entry(a).or_insert(0) += 1;
+    }
+    leaving
+        .into_iter()
+        .filter(|&(_, n)| n > 1)
+        .map(|(v, _)| v)
+        .collect()
+}
+
+/// One round of step 2: drops small kept pieces and kept triangles at pinched vertices, copies
+/// small uncopied pieces and the input's triangles at pinched vertices. Returns whether anything
+/// changed.
+fn clean(ours: &Side, theirs: &Side, kept: &mut [bool], copied: &mut [bool]) -> bool {
+    let mut changed = false;
+    for piece in pieces(ours, kept)
+        .into_iter()
+        .filter(|p| p.len() < MIN_PIECE)
+    {
+        for i in piece {
+            kept[i] = false;
+        }
+        changed = true;
+    }
+    let uncopied: Vec<bool> = copied.iter().map(|c| !c).collect();
+    for piece in pieces(theirs, &uncopied)
+        .into_iter()
+        .filter(|p| p.len() < MIN_PIECE)
+    {
+        for i in piece {
+            copied[i] = true;
+        }
+        changed = true;
+    }
+    let touches = |side: &Side, i: usize, at: &HashSet<u32>| {
+        side.mesh.triangles[side.triangles[i] as usize]
+            .iter()
+            .any(|v| at.contains(v))
+    };
+    let ours_pinched = pinched(ours, kept);
+    for (i, k) in kept.iter_mut().enumerate() {
+        if *k && touches(ours, i, &ours_pinched) {
+            *k = false;
+            changed = true;
+        }
+    }
+    let theirs_pinched = pinched(theirs, copied);
+    for (i, c) in copied.iter_mut().enumerate() {
+        if !*c && touches(theirs, i, &theirs_pinched) {
+            *c = true;
+            changed = true;
+        }
+    }
+    changed
+}
+
+/// The boundary loops of the selected triangles, each running along the missing twins of its
+/// free half-edges (so the region left out lies on its left); `None` if a loop is not simple.
+fn boundary_loops(side: &Side, mask: &[bool]) -> Option<Vec<Vec<u32>>> {
+    let free = free_half_edges(side, mask);
+    let next: HashMap<u32, u32> = free.iter().map(|&(a, b)| (b, a)).collect();
+    if next.len() != free.len() {
+        return None;
+    }
+    let mut seen: HashSet<u32> = HashSet::new();
+    let mut loops = Vec::new();
+    for &(_, start) in &free {
+        if seen.contains(&start) {
+            continue;
+        }
+        let mut path = Vec::new();
+        let mut v = start;
+        loop {
+            if !seen.insert(v) {
+                return None;
+            }
+            path.push(v);
+            let n = *next.get(&v)?;
+            if n == start {
+                break;
+            }
+            v = n;
+        }
+        if path.len() < 3 {
+            return None;
+        }
+        loops.push(path);
+    }
+    Some(loops)
+}
+
+/// Pairs kept and copied loops that are each other's nearest (mean distance from each vertex of
+/// either to the nearest vertex of the other, among the few nearest by centroid). Returns the
+/// pairs and the points of every loop left without a partner.
+fn pair_loops(
+    ours: &IndexedMesh,
+    our_loops: &[Vec<u32>],
+    theirs: &IndexedMesh,
+    their_loops: &[Vec<u32>],
+) -> (Vec<(usize, usize)>, Vec<Vec3>) {
+    let points = |mesh: &IndexedMesh, loops: &[Vec<u32>]| -> Vec<Vec<Vec3>> {
+        loops
+            .iter()
+            .map(|l| l.iter().map(|&v| mesh.positions[v as usize]).collect())
+            .collect()
+    };
+    let (a, c) = (points(ours, our_loops), points(theirs, their_loops));
+    let centroid = |p: &[Vec3]| p.iter().sum::<Vec3>() / p.len() as f32;
+    let (ca, cc): (Vec<Vec3>, Vec<Vec3>) = (
+        a.iter().map(|p| centroid(p)).collect(),
+        c.iter().map(|p| centroid(p)).collect(),
+    );
+    let one_way = |from: &[Vec3], to: &[Vec3]| {
+        from.iter()
+            .map(|p| {
+                to.iter()
+                    .map(|q| p.distance(*q))
+                    .fold(f32::INFINITY, f32::min)
+            })
+            .sum::<f32>()
+            / from.len() as f32
+    };
+    let gap = |i: usize, j: usize| one_way(&a[i], &c[j]).max(one_way(&c[j], &a[i]));
+    let nearest = |from: &[Vec3], to: &[Vec3], i: usize, score: &dyn Fn(usize) -> f32| {
+        let mut order: Vec<usize> = (0..to.len()).collect();
+        order.sort_by(|&x, &y| {
+            from[i]
+                .distance(to[x])
+                .total_cmp(&from[i].distance(to[y]))
+                .then(x.cmp(&y))
+        });
+        order
+            .into_iter()
+            .take(CANDIDATES)
+            .min_by(|&x, &y| score(x).total_cmp(&score(y)).then(x.cmp(&y)))
+    };
+    let ours_best: Vec<Option<usize>> = (0..a.len())
+        .map(|i| nearest(&ca, &cc, i, &|j| gap(i, j)))
+        .collect();
+    let theirs_best: Vec<Option<usize>> = (0..c.len())
+        .map(|j| nearest(&cc, &ca, j, &|i| gap(i, j)))
+        .collect();
+    let pairs: Vec<(usize, usize)> = ours_best
+        .iter()
+        .enumerate()
+        .filter_map(|(i, j)| j.filter(|&j| theirs_best[j] == Some(i)).map(|j| (i, j)))
+        .collect();
+    let (mut paired_ours, mut paired_theirs) = (vec![false; a.len()], vec![false; c.len()]);
+    for &(i, j) in &pairs {
+        paired_ours[i] = true;
+        paired_theirs[j] = true;
+    }
+    let unpaired = a
+        .iter()
+        .zip(&paired_ours)
+        .chain(c.iter().zip(&paired_theirs))
+        .filter(|(_, paired)| !**paired)
+        .flat_map(|(p, _)| p.iter().copied())
+        .collect();
+    (pairs, unpaired)
+}
+
+/// One side of a zip: a boundary loop and the normals of the triangles along it.
+struct Rim<'a> {
+    mesh: &'a IndexedMesh,
+    points: Vec<u32>,
+    /// The normal of the selected triangle holding each free half-edge.
+    normals: &'a HashMap<(u32, u32), Vec3>,
+}
+
+/// Cost of a zip triangle with smallest angle `angle` (degrees): zero for an equilateral one,
+/// growing quadratically as it thins, so one sliver costs more than several fair triangles.
+fn shape_cost(angle: f32) -> f32 {
+    let gap = (60.0 - angle).max(0.0) / 60.0;
+    gap * gap
+}
+
+/// A zip triangle turned against the boundary triangle it meets costs more than any shape.
+const FOLD_COST: f32 = 100.0;
+
+/// Joins the kept loop `a` and the copied loop `c` with a strip of triangles, from their closest
+/// pair of vertices round to it again. Among all such strips (each triangle spans one edge of one
+/// loop and a vertex of the other) it takes the one of least cost (shape, and turning against the
+/// boundary), found by dynamic programming over the two loops like optimal contour stitching.
+fn zip_loops(a: &Rim, c: &Rim, zip: &mut Vec<[Corner; 3]>) {
+    // The copied loop runs the other way round the gap.
+    let rc: Vec<u32> = c.points.iter().rev().copied().collect();
+    let (n, m) = (a.points.len(), rc.len());
+    let pa = |i: usize| a.mesh.positions[a.points[i % n] as usize];
+    let pc = |j: usize| c.mesh.positions[rc[j % m] as usize];
+    let mut start = (0, 0, f32::INFINITY);
+    for i in 0..n {
+        for j in 0..m {
+            let d = pa(i).distance_squared(pc(j));
+            if d < start.2 {
+                start = (i, j, d);
+            }
+        }
+    }
+    let (i0, j0, _) = start;
+    let va = |i: usize| a.points[(i0 + i) % n];
+    let vc = |j: usize| rc[(j0 + j) % m];
+    let cost = |p: [Vec3; 3], edge: (u32, u32), normals: &HashMap<(u32, u32), Vec3>| {
+        let normal = (p[1] - p[0]).cross(p[2] - p[0]);
+        let folded = normals.get(&edge).is_some_and(|o| normal.dot(*o) < 0.0);
+        shape_cost(min_angle_degrees(p[0], p[1], p[2])) + if folded { FOLD_COST } else { 0.0 }
+    };
+    // Advancing along ours adds [a_i, a_i+1, c_j]; its kept neighbour holds (a_i+1, a_i).
+    let step_ours = |i: usize, j: usize| {
+        cost(
+            [pa(i0 + i), pa(i0 + i + 1), pc(j0 + j)],
+            (va(i + 1), va(i)),
+            a.normals,
+        )
+    };
+    // Advancing along theirs adds [c_j, a_i, c_j+1]; its copied neighbour holds (c_j, c_j+1).
+    let step_theirs = |i: usize, j: usize| {
+        cost(
+            [pc(j0 + j), pa(i0 + i), pc(j0 + j + 1)],
+            (vc(j), vc(j + 1)),
+            c.normals,
+        )
+    };
+    let width = m + 1;
+    let mut best = vec![f32::INFINITY; (n + 1) * width];
+    let mut from_ours = vec![false; (n + 1) * width];
+    best[0] = 0.0;
+    for i in 0..=n {
+        for j in 0..=m {
+            let here = i * width + j;
+            if i > 0 {
+                let c = best[here - width] + step_ours(i - 1, j);
+                if c < best[here] {
+                    best[here] = c;
+                    from_ours[here] = true;
+                }
+            }
+            if j > 0 {
+                let c = best[here - 1] + step_theirs(i, j - 1);
+                if c < best[here] {
+                    best[here] = c;
+                    from_ours[here] = false;
+                }
+            }
+        }
+    }
+    let (mut i, mut j) = (n, m);
+    let mut strip = Vec::with_capacity(n + m);
+    while i > 0 || j > 0 {
+        if from_ours[i * width + j] {
+            i -= 1;
+            strip.push([
+                Corner::Ours(va(i)),
+                Corner::Ours(va(i + 1)),
+                Corner::Theirs(vc(j)),
+            ]);
+        } else {
+            j -= 1;
+            strip.push([
+                Corner::Theirs(vc(j)),
+                Corner::Ours(va(i)),
+                Corner::Theirs(vc(j + 1)),
+            ]);
+        }
+    }
+    zip.extend(strip.into_iter().rev());
+}
+
+/// The outward normal of the triangle holding each free half-edge of the selected triangles.
+fn rim_normals(side: &Side, mask: &[bool]) -> HashMap<(u32, u32), Vec3> {
+    let free: HashSet<(u32, u32)> = free_half_edges(side, mask).into_iter().collect();
+    let mut out = HashMap::with_capacity(free.len());
+    for (&t, _) in side.triangles.iter().zip(mask).filter(|(_, m)| **m) {
+        let tri = side.mesh.triangles[t as usize];
+        let p = tri.map(|v| side.mesh.positions[v as usize]);
+        let normal = (p[1] - p[0]).cross(p[2] - p[0]);
+        for k in 0..3 {
+            let edge = (tri[k], tri[(k + 1) % 3]);
+            if free.contains(&edge) {
+                out.insert(edge, normal);
+            }
+        }
+    }
+    out
+}
+
+/// The grafted component as a mesh of its own, with its vertices in [`Corner`] order.
+pub(super) fn assemble(
+    graft: &Graft,
+    ours: &IndexedMesh,
+    theirs: &IndexedMesh,
+) -> (IndexedMesh, Vec<Corner>) {
+    let triangles: Vec<[Corner; 3]> = graft
+        .kept
+        .iter()
+        .map(|&t| ours.triangles[t as usize].map(Corner::Ours))
+        .chain(
+            graft
+                .copied
+                .iter()
+                .map(|&t| theirs.triangles[t as usize].map(Corner::Theirs)),
+        )
+        .chain(graft.zip.iter().copied())
+        .collect();
+    let mut corners: Vec<Corner> = triangles.iter().flatten().copied().collect();
+    corners.sort_unstable();
+    corners.dedup();
+    let index = |c: Corner| corners.binary_search(&c).map_or(u32::MAX, |i| i as u32);
+    let position = |c: Corner| match c {
+        Corner::Ours(v) => ours.positions[v as usize],
+        Corner::Theirs(v) => theirs.positions[v as usize],
+    };
+    let mesh = IndexedMesh::new(
+        corners.iter().map(|&c| position(c)).collect(),
+        triangles.iter().map(|t| t.map(index)).collect(),
+    );
+    (mesh, corners)
+}
+
+/// What step 4 found.
+enum Verdict {
+    Meets,
+    /// Not closed and manifold, or not one component of the input's Euler characteristic.
+    Fails,
+    /// These samples (of either surface) lie farther than the bound from the other.
+    Far(Vec<Vec3>),
+}
+
+/// Step 4 of the module comment.
+fn check(
+    graft: &Graft,
+    ours: &IndexedMesh,
+    theirs: &Side,
+    bounds: &Bounds,
+) -> Result<Verdict, ReconcileError> {
+    let (part, _) = assemble(graft, ours, theirs.mesh);
+    if part.validate().is_err() {
+        return Ok(Verdict::Fails);
+    }
+    let topology = part.topology();
+    if topology.components.len() != 1 || topology.euler() != bounds.euler {
+        return Ok(Verdict::Fails);
+    }
+    let mut far = far_components(
+        bounds.backend,
+        bounds.target_bvh,
+        &part,
+        &vec![0; part.positions.len()],
+        1,
+        bounds.max_distance,
+    )?;
+    let input = submesh(theirs.mesh, &theirs.triangles);
+    far.extend(far_components(
+        bounds.backend,
+        &Bvh::build(&part)?,
+        &input,
+        &vec![0; input.positions.len()],
+        1,
+        bounds.max_distance,
+    )?);
+    let far: Vec<Vec3> = far.into_iter().flatten().collect();
+    Ok(if far.is_empty() {
+        Verdict::Meets
+    } else {
+        Verdict::Far(far)
+    })
+}
