@@ -314,7 +314,7 @@ impl Tracker {
         events.extend(constrained.events);
 
         let t = Instant::now();
-        let (reconciled, counts) = reconcile_components(
+        let (reconciled, mut counts) = reconcile_components(
             backend,
             &mut self.mesh,
             target,
@@ -333,6 +333,45 @@ impl Tracker {
             .map_err(|source| TrackError::Improve { frame, source })?;
         times.improve += ms(t.elapsed());
         events.extend(EventList::drain(&mut self.mesh));
+
+        // Improvement reshapes a graft's seam, whose thin triangles it may collapse and flip many
+        // times over, each step within its own small bound; the steps can add up to more than
+        // the distance bound. A grafted frame is checked again: a component that moved out of
+        // bounds is grafted again around where it did, and if that too moves out, replaced
+        // whole, a surface improvement barely touches.
+        let mut grafted = counts.grafted;
+        for fidelity in [Fidelity::Input, Fidelity::InputWhole] {
+            if grafted == 0 {
+                break;
+            }
+            let t = Instant::now();
+            let (again, recheck) = reconcile_components(
+                backend,
+                &mut self.mesh,
+                target,
+                &bvh,
+                self.grid.spacing(),
+                self.options.max_distance * self.params.edge_length,
+                fidelity,
+            )
+            .map_err(|source| TrackError::Reconcile { frame, source })?;
+            times.reconcile += ms(t.elapsed());
+            grafted = recheck.grafted;
+            if !recheck.changed() {
+                break;
+            }
+            events.extend(again);
+            self.mesh.record_mutations();
+            let t = Instant::now();
+            improve(&mut self.mesh, &self.params)
+                .map_err(|source| TrackError::Improve { frame, source })?;
+            times.improve += ms(t.elapsed());
+            events.extend(EventList::drain(&mut self.mesh));
+            counts.grafted = counts.grafted.saturating_sub(recheck.replaced);
+            counts.replaced += recheck.replaced;
+            counts.deleted += recheck.deleted;
+            counts.inserted += recheck.inserted;
+        }
         self.mesh.compact();
 
         let residual = self.residual(backend, &bvh, frame, &mut times)?;

@@ -310,3 +310,21 @@ fn a_local_difference_is_grafted_and_the_rest_keeps_its_vertices() {
     forward(&events, &mut values).unwrap();
     assert_nearest_x(&mesh, &before, &values, "forward");
 }
+
+#[test]
+fn whole_input_fidelity_replaces_instead_of_grafting() {
+    let ours = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 4);
+    let target = bumped_sphere(4, 0.4, 25.0);
+    let (_, mesh, counts, events) = run_with(&ours, &target, 0.25, 0.15, Fidelity::InputWhole);
+    assert_eq!(
+        counts,
+        ReconcileCounts {
+            deleted: 0,
+            inserted: 0,
+            replaced: 1,
+            grafted: 0
+        }
+    );
+    assert_eq!(mesh.to_indexed().positions, target.positions);
+    events.check().unwrap();
+}

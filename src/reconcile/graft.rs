@@ -96,16 +96,18 @@ pub(super) fn graft(
         return Ok(None);
     }
     for _ in 0..GROWTHS {
-        let trouble = match attempt(&frame, &region, ours, theirs) {
+        let cells = |points: Vec<Vec3>| points.iter().map(|&p| cell(&frame, p)).collect();
+        let trouble: Vec<[i32; 3]> = match attempt(&frame, &region, ours, theirs) {
             Attempt::Hopeless => return Ok(None),
-            Attempt::Unpaired(points) => points,
+            Attempt::Unpaired(points) => cells(points),
             Attempt::Joined(graft) => match check(&graft, ours.mesh, theirs, bounds)? {
                 Verdict::Meets => return Ok(Some(graft)),
-                Verdict::Fails => return Ok(None),
-                Verdict::Far(points) => points,
+                // Where the topology went wrong is not known: the whole region grows.
+                Verdict::Fails => region.iter().copied().collect(),
+                Verdict::Far(points) => cells(points),
             },
         };
-        grow(&mut region, trouble.iter().map(|&p| cell(&frame, p)));
+        grow(&mut region, trouble);
     }
     Ok(None)
 }

@@ -57,6 +57,9 @@ pub enum Fidelity {
     /// a component of any size the grid leaves different is replaced.
     #[default]
     Input,
+    /// As `Input`, but a component that differs is always replaced whole, never grafted: where
+    /// the input differs the surface is the input's own, with no seam for improvement to reshape.
+    InputWhole,
     /// The topology the grid resolves (paper §4.3), plus the components below
     /// [`SMALL_CELLS`]: larger components keep their vertices (and their coherence) even where
     /// the input has a sheet, tunnel or bridge thinner than a cell.
@@ -169,7 +172,7 @@ pub fn reconcile_components(
         })
         .collect();
     let (our_far, their_far) = match fidelity {
-        Fidelity::Input if !current.triangles.is_empty() => {
+        Fidelity::Input | Fidelity::InputWhole if !current.triangles.is_empty() => {
             // The input is measured against what stays if every group is faithful: without the
             // unmatched components and the small duplicates, which are deleted then.
             let ours = &ours;
@@ -239,7 +242,7 @@ pub fn reconcile_components(
         };
         let others = group.iter().copied().filter(|&c| c != largest);
         let faithful = match fidelity {
-            Fidelity::Input => {
+            Fidelity::Input | Fidelity::InputWhole => {
                 ours[largest].euler == theirs[k].euler
                     && our_far[largest].is_empty()
                     && their_far[k].is_empty()
@@ -289,7 +292,7 @@ pub fn reconcile_components(
                     },
                 )?
             }
-            Fidelity::Grid => None,
+            Fidelity::InputWhole | Fidelity::Grid => None,
         };
         for &c in group {
             delete[c] = true;
