@@ -287,12 +287,7 @@ impl Tracker {
         let converged = moved?;
         let phi_t = phi_t?;
         times.register = ms(t.elapsed());
-
-        let t = Instant::now();
-        improve(&mut self.mesh, &self.params)
-            .map_err(|source| TrackError::Improve { frame, source })?;
-        times.improve += ms(t.elapsed());
-        events.extend(EventList::drain(&mut self.mesh));
+        self.improve(frame, &mut events, &mut times)?;
 
         let t = Instant::now();
         let phi_m = Field::signed_distance(backend, self.grid, &self.mesh.to_indexed())
@@ -313,26 +308,15 @@ impl Tracker {
         let target_changed = constrained.changed();
         events.extend(constrained.events);
 
-        let t = Instant::now();
-        let (reconciled, mut counts) = reconcile_components(
+        let (reconciled, mut counts) = self.reconcile(
             backend,
-            &mut self.mesh,
-            target,
-            &bvh,
-            self.grid.spacing(),
-            self.options.max_distance * self.params.edge_length,
+            frame,
+            (target, &bvh),
             self.options.fidelity,
-        )
-        .map_err(|source| TrackError::Reconcile { frame, source })?;
-        times.reconcile = ms(t.elapsed());
+            &mut times,
+        )?;
         events.extend(reconciled);
-        self.mesh.record_mutations();
-
-        let t = Instant::now();
-        improve(&mut self.mesh, &self.params)
-            .map_err(|source| TrackError::Improve { frame, source })?;
-        times.improve += ms(t.elapsed());
-        events.extend(EventList::drain(&mut self.mesh));
+        self.improve(frame, &mut events, &mut times)?;
 
         // Improvement reshapes a graft's seam, whose thin triangles it may collapse and flip many
         // times over, each step within its own small bound; the steps can add up to more than
@@ -344,29 +328,14 @@ impl Tracker {
             if grafted == 0 {
                 break;
             }
-            let t = Instant::now();
-            let (again, recheck) = reconcile_components(
-                backend,
-                &mut self.mesh,
-                target,
-                &bvh,
-                self.grid.spacing(),
-                self.options.max_distance * self.params.edge_length,
-                fidelity,
-            )
-            .map_err(|source| TrackError::Reconcile { frame, source })?;
-            times.reconcile += ms(t.elapsed());
+            let (again, recheck) =
+                self.reconcile(backend, frame, (target, &bvh), fidelity, &mut times)?;
+            events.extend(again);
             grafted = recheck.grafted;
             if !recheck.changed() {
                 break;
             }
-            events.extend(again);
-            self.mesh.record_mutations();
-            let t = Instant::now();
-            improve(&mut self.mesh, &self.params)
-                .map_err(|source| TrackError::Improve { frame, source })?;
-            times.improve += ms(t.elapsed());
-            events.extend(EventList::drain(&mut self.mesh));
+            self.improve(frame, &mut events, &mut times)?;
             counts.grafted = counts.grafted.saturating_sub(recheck.replaced);
             counts.replaced += recheck.replaced;
             counts.deleted += recheck.deleted;
@@ -386,6 +355,47 @@ impl Tracker {
         );
         log.reconciled = counts;
         Ok((events, log))
+    }
+
+    /// Reconciles the components below the grid with `target` (see [`reconcile_components`]),
+    /// adding its time.
+    fn reconcile(
+        &mut self,
+        backend: &Backend,
+        frame: usize,
+        (target, bvh): (&IndexedMesh, &Bvh),
+        fidelity: Fidelity,
+        times: &mut StageTimes,
+    ) -> Result<(EventList, ReconcileCounts), TrackError> {
+        let t = Instant::now();
+        let (reconciled, counts) = reconcile_components(
+            backend,
+            &mut self.mesh,
+            target,
+            bvh,
+            self.grid.spacing(),
+            self.options.max_distance * self.params.edge_length,
+            fidelity,
+        )
+        .map_err(|source| TrackError::Reconcile { frame, source })?;
+        times.reconcile += ms(t.elapsed());
+        self.mesh.record_mutations();
+        Ok((reconciled, counts))
+    }
+
+    /// Improves the mesh (paper §4.1), appending its events and time.
+    fn improve(
+        &mut self,
+        frame: usize,
+        events: &mut EventList,
+        times: &mut StageTimes,
+    ) -> Result<(), TrackError> {
+        let t = Instant::now();
+        improve(&mut self.mesh, &self.params)
+            .map_err(|source| TrackError::Improve { frame, source })?;
+        times.improve += ms(t.elapsed());
+        events.extend(EventList::drain(&mut self.mesh));
+        Ok(())
     }
 
     /// Mean and largest distance from the tracked vertices to `target`, in units of `L`.

@@ -231,11 +231,12 @@ fn a_component_farther_than_the_bound_is_replaced() {
     );
 }
 
-/// A unit sphere with a smooth bump of height `height` around +z (within `degrees` of it).
-fn bumped_sphere(subdivisions: u32, height: f32, degrees: f32) -> IndexedMesh {
-    let sphere = IndexedMesh::icosphere(Vec3::ZERO, 1.0, subdivisions);
-    let edge = degrees.to_radians().cos();
-    IndexedMesh {
+/// The tracked unit sphere, and the input: the same sphere with a smooth bump 0.4 high within 25°
+/// of +z, farther than the bound of 0.15 used with it.
+fn sphere_and_bump() -> (IndexedMesh, IndexedMesh) {
+    let sphere = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 4);
+    let (height, edge) = (0.4, 25f32.to_radians().cos());
+    let bumped = IndexedMesh {
         positions: sphere
             .positions
             .iter()
@@ -244,16 +245,16 @@ fn bumped_sphere(subdivisions: u32, height: f32, degrees: f32) -> IndexedMesh {
                 *p * (1.0 + height * t * t)
             })
             .collect(),
-        ..sphere
-    }
+        ..sphere.clone()
+    };
+    (sphere, bumped)
 }
 
 #[test]
 fn a_local_difference_is_grafted_and_the_rest_keeps_its_vertices() {
     // The input has a bump the tracked sphere lacks, farther than the bound: only the cells
     // around it take the input's triangles.
-    let ours = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 4);
-    let target = bumped_sphere(4, 0.4, 25.0);
+    let (ours, target) = sphere_and_bump();
     let (before, mesh, counts, events) = run_with(&ours, &target, 0.25, 0.15, Fidelity::Input);
     assert_eq!(
         counts,
@@ -313,8 +314,7 @@ fn a_local_difference_is_grafted_and_the_rest_keeps_its_vertices() {
 
 #[test]
 fn whole_input_fidelity_replaces_instead_of_grafting() {
-    let ours = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 4);
-    let target = bumped_sphere(4, 0.4, 25.0);
+    let (ours, target) = sphere_and_bump();
     let (_, mesh, counts, events) = run_with(&ours, &target, 0.25, 0.15, Fidelity::InputWhole);
     assert_eq!(
         counts,
