@@ -396,7 +396,7 @@ fn log_line(log: &FrameLog) -> String {
     let t = &log.times;
     let r = &log.reconciled;
     format!(
-        "frame {:4}: {:7} verts | split {} face {} collapse {} patch +{} -{} | components +{} -{} replaced {} grafted {} | residual {:.3} L (max {:.2}){} | register {:.0} improve {:.0} topology {:.0}+{:.0} total {:.0} ms",
+        "frame {:4}: {:7} verts | split {} face {} collapse {} patch +{} -{} | components +{} -{} replaced {} grafted {} | residual {:.3} L (max {:.2}){} | register {:.0} improve {:.0} topology {:.0}+{:.0} reconcile {:.0} total {:.0} ms",
         log.frame,
         log.vertices,
         e.split_edge,
@@ -419,6 +419,7 @@ fn log_line(log: &FrameLog) -> String {
         t.improve,
         t.topology_self,
         t.topology_target,
+        t.reconcile,
         t.total
     )
 }

@@ -68,6 +68,52 @@ pub(super) struct Graft {
 pub(super) struct Side<'a> {
     pub mesh: &'a IndexedMesh,
     pub triangles: Vec<u32>,
+    /// For each of `triangles` and each of its edges (corner k to k+1), the triangle (index into
+    /// `triangles`) across it, or [`NONE`]: every mask below is read through it, so the many
+    /// rounds of a graft look nothing up by hashing.
+    across: Vec<[u32; 3]>,
+}
+
+/// No triangle across an edge.
+const NONE: u32 = u32::MAX;
+
+impl<'a> Side<'a> {
+    pub fn new(mesh: &'a IndexedMesh, triangles: Vec<u32>) -> Self {
+        let mut holder: HashMap<(u32, u32), u32> = HashMap::with_capacity(3 * triangles.len());
+        for (i, &t) in triangles.iter().enumerate() {
+            let tri = mesh.triangles[t as usize];
+            for k in 0..3 {
+                holder.entry((tri[k], tri[(k + 1) % 3])).or_insert(i as u32);
+            }
+        }
+        let across = triangles
+            .iter()
+            .map(|&t| {
+                let tri = mesh.triangles[t as usize];
+                std::array::from_fn(|k| {
+                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                    holder.get(&(b, a)).copied().unwrap_or(NONE)
+                })
+            })
+            .collect();
+        Side {
+            mesh,
+            triangles,
+            across,
+        }
+    }
+
+    /// The corners of the `i`-th triangle.
+    fn corners(&self, i: usize) -> [u32; 3] {
+        self.mesh.triangles[self.triangles[i] as usize]
+    }
+
+    /// Whether the edge from corner `k` of the `i`-th selected triangle is free: no selected
+    /// triangle across it.
+    fn free(&self, mask: &[bool], i: usize, k: usize) -> bool {
+        let j = self.across[i][k];
+        j == NONE || !mask[j as usize]
+    }
 }
 
 /// The bounds a graft must meet.
@@ -126,26 +172,21 @@ enum Attempt {
 
 /// Steps 2 and 3 of the module comment for one region.
 fn attempt(frame: &GridFrame, region: &HashSet<[i32; 3]>, ours: &Side, theirs: &Side) -> Attempt {
-    let inside = |cells: &HashSet<[i32; 3]>, mesh: &IndexedMesh, v: u32| {
-        cells.contains(&cell(frame, mesh.positions[v as usize]))
+    let inside = |side: &Side| -> Vec<bool> {
+        let mut at = vec![false; side.mesh.positions.len()];
+        for i in 0..side.triangles.len() {
+            for v in side.corners(i) {
+                at[v as usize] = region.contains(&cell(frame, side.mesh.positions[v as usize]));
+            }
+        }
+        at
     };
-    let mut kept: Vec<bool> = ours
-        .triangles
-        .iter()
-        .map(|&t| {
-            !ours.mesh.triangles[t as usize]
-                .iter()
-                .any(|&v| inside(region, ours.mesh, v))
-        })
+    let (ours_in, theirs_in) = (inside(ours), inside(theirs));
+    let mut kept: Vec<bool> = (0..ours.triangles.len())
+        .map(|i| !ours.corners(i).iter().any(|&v| ours_in[v as usize]))
         .collect();
-    let mut copied: Vec<bool> = theirs
-        .triangles
-        .iter()
-        .map(|&t| {
-            theirs.mesh.triangles[t as usize]
-                .iter()
-                .all(|&v| inside(region, theirs.mesh, v))
-        })
+    let mut copied: Vec<bool> = (0..theirs.triangles.len())
+        .map(|i| theirs.corners(i).iter().all(|&v| theirs_in[v as usize]))
         .collect();
     for _ in 0..ROUNDS {
         if !clean(ours, theirs, &mut kept, &mut copied) {
@@ -290,52 +331,42 @@ fn region(
 /// The edge-connected pieces of the triangles of `side` selected by `mask`, as indices into
 /// `side.triangles`, in order of their first triangle.
 fn pieces(side: &Side, mask: &[bool]) -> Vec<Vec<usize>> {
-    let mut parent: Vec<usize> = (0..mask.len()).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
-    let mut first: HashMap<(u32, u32), usize> = HashMap::new();
-    for (i, &t) in side.triangles.iter().enumerate().filter(|(i, _)| mask[*i]) {
-        let tri = side.mesh.triangles[t as usize];
-        for k in 0..3 {
-            let (a, b) = (tri[k], tri[(k + 1) % 3]);
-            let j = *first.entry((a.min(b), a.max(b))).or_insert(i);
-            let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
-            parent[ri.max(rj)] = ri.min(rj);
-        }
-    }
-    let mut slot: HashMap<usize, usize> = HashMap::new();
+    let mut piece = vec![NONE; mask.len()];
     let mut out: Vec<Vec<usize>> = Vec::new();
-    for i in (0..mask.len()).filter(|&i| mask[i]) {
-        let r = root(&mut parent, i);
-        let s = *slot.entry(r).or_insert_with(|| {
-            out.push(Vec::new());
-            out.len() - 1
-        });
-        out[s].push(i);
+    for start in (0..mask.len()).filter(|&i| mask[i]) {
+        if piece[start] != NONE {
+            continue;
+        }
+        let label = out.len() as u32;
+        piece[start] = label;
+        let mut members = vec![start];
+        let mut next = 0;
+        while next < members.len() {
+            let i = members[next];
+            next += 1;
+            for &j in &side.across[i] {
+                if j != NONE && mask[j as usize] && piece[j as usize] == NONE {
+                    piece[j as usize] = label;
+                    members.push(j as usize);
+                }
+            }
+        }
+        members.sort_unstable();
+        out.push(members);
     }
     out
 }
 
-/// The half-edges of the selected triangles whose twin is not selected, in triangle order.
+/// The half-edges of the selected triangles with no selected triangle across, in triangle order.
 fn free_half_edges(side: &Side, mask: &[bool]) -> Vec<(u32, u32)> {
-    let selected = || {
-        side.triangles
-            .iter()
-            .zip(mask)
-            .filter(|(_, m)| **m)
-            .map(|(&t, _)| side.mesh.triangles[t as usize])
-    };
-    let present: HashSet<(u32, u32)> = selected()
-        .flat_map(|tri| (0..3).map(move |k| (tri[k], tri[(k + 1) % 3])))
-        .collect();
-    selected()
-        .flat_map(|tri| (0..3).map(move |k| (tri[k], tri[(k + 1) % 3])))
-        .filter(|&(a, b)| !present.contains(&(b, a)))
+    (0..mask.len())
+        .filter(|&i| mask[i])
+        .flat_map(|i| {
+            let tri = side.corners(i);
+            (0..3)
+                .filter(move |&k| side.free(mask, i, k))
+                .map(move |k| (tri[k], tri[(k + 1) % 3]))
+        })
         .collect()
 }
 
@@ -612,17 +643,13 @@ fn zip_loops(a: &Rim, c: &Rim, zip: &mut Vec<[Corner; 3]>) {
 
 /// The outward normal of the triangle holding each free half-edge of the selected triangles.
 fn rim_normals(side: &Side, mask: &[bool]) -> HashMap<(u32, u32), Vec3> {
-    let free: HashSet<(u32, u32)> = free_half_edges(side, mask).into_iter().collect();
-    let mut out = HashMap::with_capacity(free.len());
-    for (&t, _) in side.triangles.iter().zip(mask).filter(|(_, m)| **m) {
-        let tri = side.mesh.triangles[t as usize];
+    let mut out = HashMap::new();
+    for i in (0..mask.len()).filter(|&i| mask[i]) {
+        let tri = side.corners(i);
         let p = tri.map(|v| side.mesh.positions[v as usize]);
         let normal = (p[1] - p[0]).cross(p[2] - p[0]);
-        for k in 0..3 {
-            let edge = (tri[k], tri[(k + 1) % 3]);
-            if free.contains(&edge) {
-                out.insert(edge, normal);
-            }
+        for k in (0..3).filter(|&k| side.free(mask, i, k)) {
+            out.insert((tri[k], tri[(k + 1) % 3]), normal);
         }
     }
     out

@@ -270,18 +270,15 @@ pub fn reconcile_components(
                     .copied()
                     .collect();
                 graft::graft(
-                    &Side {
-                        mesh: &current,
-                        triangles: group
+                    &Side::new(
+                        &current,
+                        group
                             .iter()
                             .flat_map(|&c| &our_triangles[c])
                             .copied()
                             .collect(),
-                    },
-                    &Side {
-                        mesh: target,
-                        triangles: their_triangles[k].clone(),
-                    },
+                    ),
+                    &Side::new(target, their_triangles[k].clone()),
                     &far,
                     &Bounds {
                         backend,
