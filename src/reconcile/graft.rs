@@ -24,8 +24,9 @@
 //!    and within the distance bound of the input both ways.
 //!
 //! Where step 3 leaves a loop without a partner (the two surfaces cross the region's rim
-//! differently there) or step 4 finds samples beyond the bound, the region grows around them and
-//! steps 2–4 run again, a few times at most; otherwise the caller replaces the whole component.
+//! differently there) or step 4 finds samples beyond the bound, the region grows around them;
+//! where step 4 finds another topology, whose place is unknown, the whole region grows. Steps 2–4
+//! then run again, up to [`GROWTHS`] times; after that the caller replaces the whole component.
 
 use std::collections::{HashMap, HashSet};
 
