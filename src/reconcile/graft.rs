@@ -28,15 +28,15 @@
 //! where step 4 finds another topology, whose place is unknown, the whole region grows. Steps 2–4
 //! then run again, up to [`GROWTHS`] times; after that the caller replaces the whole component.
 
-use std::collections::{HashMap, HashSet};
-
 use glam::Vec3;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::{ReconcileError, far_components};
 use crate::compute::Backend;
 use crate::grid::{GridFrame, LatticeMesh, cross_axes, rasterize};
 use crate::mesh::{IndexedMesh, min_angle_degrees};
 use crate::project::Bvh;
+use crate::topology::dilate;
 
 /// Edge-connected pieces smaller than this many triangles join the region: they are slivers
 /// between region cells, not surface worth keeping apart from the rest.
@@ -80,7 +80,8 @@ const NONE: u32 = u32::MAX;
 
 impl<'a> Side<'a> {
     pub fn new(mesh: &'a IndexedMesh, triangles: Vec<u32>) -> Self {
-        let mut holder: HashMap<(u32, u32), u32> = HashMap::with_capacity(3 * triangles.len());
+        let mut holder: FxHashMap<(u32, u32), u32> =
+            FxHashMap::with_capacity_and_hasher(3 * triangles.len(), Default::default());
         for (i, &t) in triangles.iter().enumerate() {
             let tri = mesh.triangles[t as usize];
             for k in 0..3 {
@@ -138,7 +139,8 @@ pub(super) fn graft(
     bounds: &Bounds,
 ) -> Result<Option<Graft>, ReconcileError> {
     let frame = GridFrame::new(Vec3::ZERO, bounds.spacing)?;
-    let mut region = region(bounds.backend, &frame, ours, theirs, far)?;
+    let input = submesh(theirs.mesh, &theirs.triangles);
+    let mut region = region(bounds.backend, &frame, ours, &input, far)?;
     if region.is_empty() {
         return Ok(None);
     }
@@ -147,14 +149,16 @@ pub(super) fn graft(
         let trouble: Vec<[i32; 3]> = match attempt(&frame, &region, ours, theirs) {
             Attempt::Hopeless => return Ok(None),
             Attempt::Unpaired(points) => cells(points),
-            Attempt::Joined(graft) => match check(&graft, ours.mesh, theirs, bounds)? {
-                Verdict::Meets => return Ok(Some(graft)),
-                // Where the topology went wrong is not known: the whole region grows.
-                Verdict::Fails => region.iter().copied().collect(),
-                Verdict::Far(points) => cells(points),
-            },
+            Attempt::Joined(graft) => {
+                match check(&graft, ours.mesh, (theirs.mesh, &input), bounds)? {
+                    Verdict::Meets => return Ok(Some(graft)),
+                    // Where the topology went wrong is not known: the whole region grows.
+                    Verdict::Fails => region.clone(),
+                    Verdict::Far(points) => cells(points),
+                }
+            }
         };
-        grow(&mut region, trouble);
+        grow(&mut region, &trouble);
     }
     Ok(None)
 }
@@ -172,12 +176,14 @@ enum Attempt {
 }
 
 /// Steps 2 and 3 of the module comment for one region.
-fn attempt(frame: &GridFrame, region: &HashSet<[i32; 3]>, ours: &Side, theirs: &Side) -> Attempt {
+fn attempt(frame: &GridFrame, region: &[[i32; 3]], ours: &Side, theirs: &Side) -> Attempt {
     let inside = |side: &Side| -> Vec<bool> {
         let mut at = vec![false; side.mesh.positions.len()];
         for i in 0..side.triangles.len() {
             for v in side.corners(i) {
-                at[v as usize] = region.contains(&cell(frame, side.mesh.positions[v as usize]));
+                at[v as usize] = region
+                    .binary_search(&cell(frame, side.mesh.positions[v as usize]))
+                    .is_ok();
             }
         }
         at
@@ -238,17 +244,11 @@ fn attempt(frame: &GridFrame, region: &HashSet<[i32; 3]>, ours: &Side, theirs: &
     })
 }
 
-/// Adds the cells `seeds` and their 26 neighbours to `region`.
-fn grow(region: &mut HashSet<[i32; 3]>, seeds: impl IntoIterator<Item = [i32; 3]>) {
-    for s in seeds {
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                for dz in -1..=1 {
-                    region.insert([s[0] + dx, s[1] + dy, s[2] + dz]);
-                }
-            }
-        }
-    }
+/// Adds the cells `seeds` and their 26 neighbours to `region` (sorted, without repeats).
+fn grow(region: &mut Vec<[i32; 3]>, seeds: &[[i32; 3]]) {
+    region.extend(dilate(seeds, 1));
+    region.sort_unstable();
+    region.dedup();
 }
 
 /// The grid cell holding `p`.
@@ -282,10 +282,10 @@ pub(super) fn submesh(mesh: &IndexedMesh, triangles: &[u32]) -> IndexedMesh {
 fn crossing_counts(
     backend: &Backend,
     frame: &GridFrame,
-    side: &Side,
-) -> Result<HashMap<([i32; 3], usize), u32>, ReconcileError> {
-    let lattice = LatticeMesh::new(*frame, &submesh(side.mesh, &side.triangles))?;
-    let mut counts = HashMap::new();
+    surface: &IndexedMesh,
+) -> Result<FxHashMap<([i32; 3], usize), u32>, ReconcileError> {
+    let lattice = LatticeMesh::new(*frame, surface)?;
+    let mut counts = FxHashMap::default();
     for crossing in rasterize(backend, &lattice)?.all() {
         *counts
             .entry((crossing.corner, crossing.axis()))
@@ -299,12 +299,12 @@ fn region(
     backend: &Backend,
     frame: &GridFrame,
     ours: &Side,
-    theirs: &Side,
+    input: &IndexedMesh,
     far: &[Vec3],
-) -> Result<HashSet<[i32; 3]>, ReconcileError> {
-    let our_counts = crossing_counts(backend, frame, ours)?;
-    let their_counts = crossing_counts(backend, frame, theirs)?;
-    let mut seeds: HashSet<[i32; 3]> = far.iter().map(|&p| cell(frame, p)).collect();
+) -> Result<Vec<[i32; 3]>, ReconcileError> {
+    let our_counts = crossing_counts(backend, frame, &submesh(ours.mesh, &ours.triangles))?;
+    let their_counts = crossing_counts(backend, frame, input)?;
+    let mut seeds: Vec<[i32; 3]> = far.iter().map(|&p| cell(frame, p)).collect();
     let differs = |n: u32, m: u32| n != m && n.max(m) >= 2;
     let edges = our_counts
         .iter()
@@ -321,12 +321,10 @@ fn region(
             let mut around = *corner;
             around[b] -= db;
             around[c] -= dc;
-            seeds.insert(around);
+            seeds.push(around);
         }
     }
-    let mut region = HashSet::with_capacity(seeds.len() * 27);
-    grow(&mut region, seeds);
-    Ok(region)
+    Ok(dilate(&seeds, 1))
 }
 
 /// The edge-connected pieces of the triangles of `side` selected by `mask`, as indices into
@@ -372,8 +370,8 @@ fn free_half_edges(side: &Side, mask: &[bool]) -> Vec<(u32, u32)> {
 }
 
 /// Boundary vertices with more than one free half-edge leaving them.
-fn pinched(side: &Side, mask: &[bool]) -> HashSet<u32> {
-    let mut leaving: HashMap<u32, usize> = HashMap::new();
+fn pinched(side: &Side, mask: &[bool]) -> FxHashSet<u32> {
+    let mut leaving: FxHashMap<u32, usize> = FxHashMap::default();
     for (a, _) in free_half_edges(side, mask) {
         *leaving.entry(a).or_insert(0) += 1;
     }
@@ -408,7 +406,7 @@ fn clean(ours: &Side, theirs: &Side, kept: &mut [bool], copied: &mut [bool]) -> 
         }
         changed = true;
     }
-    let touches = |side: &Side, i: usize, at: &HashSet<u32>| {
+    let touches = |side: &Side, i: usize, at: &FxHashSet<u32>| {
         side.mesh.triangles[side.triangles[i] as usize]
             .iter()
             .any(|v| at.contains(v))
@@ -434,11 +432,11 @@ fn clean(ours: &Side, theirs: &Side, kept: &mut [bool], copied: &mut [bool]) -> 
 /// free half-edges (so the region left out lies on its left); `None` if a loop is not simple.
 fn boundary_loops(side: &Side, mask: &[bool]) -> Option<Vec<Vec<u32>>> {
     let free = free_half_edges(side, mask);
-    let next: HashMap<u32, u32> = free.iter().map(|&(a, b)| (b, a)).collect();
+    let next: FxHashMap<u32, u32> = free.iter().map(|&(a, b)| (b, a)).collect();
     if next.len() != free.len() {
         return None;
     }
-    let mut seen: HashSet<u32> = HashSet::new();
+    let mut seen: FxHashSet<u32> = FxHashSet::default();
     let mut loops = Vec::new();
     for &(_, start) in &free {
         if seen.contains(&start) {
@@ -541,7 +539,7 @@ struct Rim<'a> {
     mesh: &'a IndexedMesh,
     points: Vec<u32>,
     /// The normal of the selected triangle holding each free half-edge.
-    normals: &'a HashMap<(u32, u32), Vec3>,
+    normals: &'a FxHashMap<(u32, u32), Vec3>,
 }
 
 /// Cost of a zip triangle with smallest angle `angle` (degrees): zero for an equilateral one,
@@ -576,7 +574,7 @@ fn zip_loops(a: &Rim, c: &Rim, zip: &mut Vec<[Corner; 3]>) {
     let (i0, j0, _) = start;
     let va = |i: usize| a.points[(i0 + i) % n];
     let vc = |j: usize| rc[(j0 + j) % m];
-    let cost = |p: [Vec3; 3], edge: (u32, u32), normals: &HashMap<(u32, u32), Vec3>| {
+    let cost = |p: [Vec3; 3], edge: (u32, u32), normals: &FxHashMap<(u32, u32), Vec3>| {
         let normal = (p[1] - p[0]).cross(p[2] - p[0]);
         let folded = normals.get(&edge).is_some_and(|o| normal.dot(*o) < 0.0);
         shape_cost(min_angle_degrees(p[0], p[1], p[2])) + if folded { FOLD_COST } else { 0.0 }
@@ -643,8 +641,8 @@ fn zip_loops(a: &Rim, c: &Rim, zip: &mut Vec<[Corner; 3]>) {
 }
 
 /// The outward normal of the triangle holding each free half-edge of the selected triangles.
-fn rim_normals(side: &Side, mask: &[bool]) -> HashMap<(u32, u32), Vec3> {
-    let mut out = HashMap::new();
+fn rim_normals(side: &Side, mask: &[bool]) -> FxHashMap<(u32, u32), Vec3> {
+    let mut out = FxHashMap::default();
     for i in (0..mask.len()).filter(|&i| mask[i]) {
         let tri = side.corners(i);
         let p = tri.map(|v| side.mesh.positions[v as usize]);
@@ -699,13 +697,14 @@ enum Verdict {
 }
 
 /// Step 4 of the module comment.
+/// `theirs` is the input mesh, `input` the component grafted in (as a mesh of its own).
 fn check(
     graft: &Graft,
     ours: &IndexedMesh,
-    theirs: &Side,
+    (theirs, input): (&IndexedMesh, &IndexedMesh),
     bounds: &Bounds,
 ) -> Result<Verdict, ReconcileError> {
-    let (part, _) = assemble(graft, ours, theirs.mesh);
+    let (part, _) = assemble(graft, ours, theirs);
     if part.validate().is_err() {
         return Ok(Verdict::Fails);
     }
@@ -721,11 +720,10 @@ fn check(
         1,
         bounds.max_distance,
     )?;
-    let input = submesh(theirs.mesh, &theirs.triangles);
     far.extend(far_components(
         bounds.backend,
         &Bvh::build(&part)?,
-        &input,
+        input,
         &vec![0; input.positions.len()],
         1,
         bounds.max_distance,

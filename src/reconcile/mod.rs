@@ -31,16 +31,16 @@
 //! it. So every vertex of every frame holds a value (unless a whole frame is empty), a constant
 //! channel stays constant, and colours stay near where they were.
 
+mod graft;
+
 use crate::compute::Backend;
 use crate::events::{Event, EventList};
 use crate::grid::RasterError;
 use crate::mesh::{IndexedMesh, Mesh, MeshError};
 use crate::project::{Bvh, ProjectError, closest_points};
 use crate::topology::nearest::Survivors;
-use graft::{Bounds, Corner, Graft, Side};
-
-mod graft;
 use glam::Vec3;
+use graft::{Bounds, Corner, Graft, Side};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -381,11 +381,9 @@ pub fn reconcile_components(
             }
             None => theirs[k].vertices.clone(),
         };
+        let group_vertices = || replaces[k].iter().flat_map(|&c| &ours[c].vertices);
         let replaced = Survivors::new(
-            replaces[k]
-                .iter()
-                .flat_map(|&c| &ours[c].vertices)
-                .map(|&v| (v, current.positions[v as usize])),
+            group_vertices().map(|&v| (v, current.positions[v as usize])),
             spacing,
         );
         for v in copied {
@@ -414,9 +412,7 @@ pub fn reconcile_components(
                 );
                 triangles.extend(g.zip.iter().map(|t| t.map(corner)));
                 survivors_of[k].extend(
-                    replaces[k]
-                        .iter()
-                        .flat_map(|&c| &ours[c].vertices)
+                    group_vertices()
                         .filter(|&&v| keep[v as usize])
                         .map(|&v| index[v as usize]),
                 );

@@ -283,7 +283,7 @@ fn complex_faces(grid: &MeshGrid, field: &Field) -> Vec<Cell> {
 }
 
 /// Every cell within `k` cells (in each coordinate) of a seed, sorted.
-fn dilate(seeds: &[Cell], k: u32) -> Vec<Cell> {
+pub(crate) fn dilate(seeds: &[Cell], k: u32) -> Vec<Cell> {
     let k = k as i32;
     let mut out: Vec<Cell> = seeds
         .par_iter()

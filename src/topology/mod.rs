@@ -38,6 +38,7 @@ mod report;
 mod segment;
 mod triangulate;
 
+pub(crate) use classify::dilate;
 pub use constrain::constrain_topology;
 pub use distance::PHI_HALF_WIDTH;
 pub use error::TopologyError;
