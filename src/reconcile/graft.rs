@@ -655,11 +655,7 @@ fn rim_normals(side: &Side, mask: &[bool]) -> FxHashMap<(u32, u32), Vec3> {
 }
 
 /// The grafted component as a mesh of its own, with its vertices in [`Corner`] order.
-pub(super) fn assemble(
-    graft: &Graft,
-    ours: &IndexedMesh,
-    theirs: &IndexedMesh,
-) -> (IndexedMesh, Vec<Corner>) {
+fn assemble(graft: &Graft, ours: &IndexedMesh, theirs: &IndexedMesh) -> IndexedMesh {
     let triangles: Vec<[Corner; 3]> = graft
         .kept
         .iter()
@@ -680,11 +676,10 @@ pub(super) fn assemble(
         Corner::Ours(v) => ours.positions[v as usize],
         Corner::Theirs(v) => theirs.positions[v as usize],
     };
-    let mesh = IndexedMesh::new(
+    IndexedMesh::new(
         corners.iter().map(|&c| position(c)).collect(),
         triangles.iter().map(|t| t.map(index)).collect(),
-    );
-    (mesh, corners)
+    )
 }
 
 /// What step 4 found.
@@ -704,7 +699,7 @@ fn check(
     (theirs, input): (&IndexedMesh, &IndexedMesh),
     bounds: &Bounds,
 ) -> Result<Verdict, ReconcileError> {
-    let (part, _) = assemble(graft, ours, theirs);
+    let part = assemble(graft, ours, theirs);
     if part.validate().is_err() {
         return Ok(Verdict::Fails);
     }
