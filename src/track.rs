@@ -193,7 +193,6 @@ impl Tracker {
             .edge_length
             .unwrap_or_else(|| first.mean_edge_length());
         let mut tracker = Self::with_mesh(mesh, edge_length, options)?;
-        tracker.mesh.record_mutations();
         let t = Instant::now();
         improve(&mut tracker.mesh, &tracker.params)
             .map_err(|source| TrackError::Improve { frame: 0, source })?;
@@ -225,7 +224,14 @@ impl Tracker {
         Self::with_mesh(mesh, edge_length, options)
     }
 
-    fn with_mesh(mesh: Mesh, edge_length: f32, options: &TrackOptions) -> Result<Self, TrackError> {
+    /// The tracker over `mesh`, whose journal records from here on: every stage changes the mesh
+    /// through its mutations, so each frame's events are what one drain of the journal returns.
+    fn with_mesh(
+        mut mesh: Mesh,
+        edge_length: f32,
+        options: &TrackOptions,
+    ) -> Result<Self, TrackError> {
+        mesh.record_mutations();
         if !(edge_length.is_finite() && edge_length > 0.0) {
             return Err(TrackError::EdgeLength(edge_length));
         }
@@ -261,8 +267,6 @@ impl Tracker {
     ) -> Result<(EventList, FrameLog), TrackError> {
         let start = Instant::now();
         let mut times = StageTimes::default();
-        self.mesh.record_mutations();
-        let mut events = EventList::new();
 
         let t = Instant::now();
         // The target's tree serves the projection baseline, reconciliation and the residual.
@@ -287,7 +291,7 @@ impl Tracker {
         let converged = moved?;
         let phi_t = phi_t?;
         times.register = ms(t.elapsed());
-        self.improve(frame, &mut events, &mut times)?;
+        self.improve(frame, &mut times)?;
 
         let t = Instant::now();
         let phi_m = Field::signed_distance(backend, self.grid, &self.mesh.to_indexed())
@@ -295,28 +299,22 @@ impl Tracker {
         let merged = constrain_topology(&mut self.mesh, &phi_m, &self.options.topology)
             .map_err(|source| TrackError::Topology { frame, source })?;
         times.topology_self = ms(t.elapsed());
-        events.extend(EventList::drain(&mut self.mesh));
         let self_changed = merged.changed();
-        events.extend(merged.events);
-        self.mesh.record_mutations();
 
         let t = Instant::now();
         let constrained = constrain_topology(&mut self.mesh, &phi_t, &self.options.topology)
             .map_err(|source| TrackError::Topology { frame, source })?;
         times.topology_target = ms(t.elapsed());
-        events.extend(EventList::drain(&mut self.mesh));
         let target_changed = constrained.changed();
-        events.extend(constrained.events);
 
-        let (reconciled, mut counts) = self.reconcile(
+        let mut counts = self.reconcile(
             backend,
             frame,
             (target, &bvh),
             self.options.fidelity,
             &mut times,
         )?;
-        events.extend(reconciled);
-        self.improve(frame, &mut events, &mut times)?;
+        self.improve(frame, &mut times)?;
 
         // Improvement reshapes a graft's seam, whose thin triangles it may collapse and flip many
         // times over, each step within its own small bound; the steps can add up to more than
@@ -328,19 +326,18 @@ impl Tracker {
             if grafted == 0 {
                 break;
             }
-            let (again, recheck) =
-                self.reconcile(backend, frame, (target, &bvh), fidelity, &mut times)?;
-            events.extend(again);
+            let recheck = self.reconcile(backend, frame, (target, &bvh), fidelity, &mut times)?;
             grafted = recheck.grafted;
             if !recheck.changed() {
                 break;
             }
-            self.improve(frame, &mut events, &mut times)?;
+            self.improve(frame, &mut times)?;
             counts.grafted = counts.grafted.saturating_sub(recheck.replaced);
             counts.replaced += recheck.replaced;
             counts.deleted += recheck.deleted;
             counts.inserted += recheck.inserted;
         }
+        let events = EventList::drain(&mut self.mesh);
         self.mesh.compact();
 
         let residual = self.residual(backend, &bvh, frame, &mut times)?;
@@ -366,9 +363,9 @@ impl Tracker {
         (target, bvh): (&IndexedMesh, &Bvh),
         fidelity: Fidelity,
         times: &mut StageTimes,
-    ) -> Result<(EventList, ReconcileCounts), TrackError> {
+    ) -> Result<ReconcileCounts, TrackError> {
         let t = Instant::now();
-        let (reconciled, counts) = reconcile_components(
+        let counts = reconcile_components(
             backend,
             &mut self.mesh,
             target,
@@ -379,22 +376,15 @@ impl Tracker {
         )
         .map_err(|source| TrackError::Reconcile { frame, source })?;
         times.reconcile += ms(t.elapsed());
-        self.mesh.record_mutations();
-        Ok((reconciled, counts))
+        Ok(counts)
     }
 
-    /// Improves the mesh (paper §4.1), appending its events and time.
-    fn improve(
-        &mut self,
-        frame: usize,
-        events: &mut EventList,
-        times: &mut StageTimes,
-    ) -> Result<(), TrackError> {
+    /// Improves the mesh (paper §4.1), adding its time.
+    fn improve(&mut self, frame: usize, times: &mut StageTimes) -> Result<(), TrackError> {
         let t = Instant::now();
         improve(&mut self.mesh, &self.params)
             .map_err(|source| TrackError::Improve { frame, source })?;
         times.improve += ms(t.elapsed());
-        events.extend(EventList::drain(&mut self.mesh));
         Ok(())
     }
 

@@ -8,6 +8,7 @@
 pub mod topology_support;
 
 use surftrack::compute::Backend;
+use surftrack::events::EventList;
 use surftrack::grid::GridFrame;
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::project::{Bvh, closest_points};
@@ -117,9 +118,9 @@ fn results_do_not_depend_on_the_thread_count() {
                 .unwrap();
             pool.install(|| {
                 let mut mesh = Mesh::from_indexed(&c.mesh).unwrap();
-                let report =
-                    constrain_topology(&mut mesh, &c.theta, &TopologyOptions::default()).unwrap();
-                (mesh.to_indexed(), report.events)
+                mesh.record_mutations();
+                constrain_topology(&mut mesh, &c.theta, &TopologyOptions::default()).unwrap();
+                (mesh.to_indexed(), EventList::drain(&mut mesh))
             })
         };
         let (one, events_one) = run(1);

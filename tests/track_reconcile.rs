@@ -40,8 +40,9 @@ fn run_with(
 ) -> (Mesh, Mesh, ReconcileCounts, surftrack::events::EventList) {
     let before = Mesh::from_indexed(ours).unwrap();
     let mut mesh = before.clone();
+    mesh.record_mutations();
     let bvh = Bvh::build(target).unwrap();
-    let (events, counts) = reconcile_components(
+    let counts = reconcile_components(
         &Backend::Cpu,
         &mut mesh,
         target,
@@ -51,6 +52,7 @@ fn run_with(
         fidelity,
     )
     .unwrap();
+    let events = surftrack::events::EventList::drain(&mut mesh);
     (before, mesh, counts, events)
 }
 

@@ -103,14 +103,20 @@ impl Event {
     /// The event a mesh mutation stands for; `None` for a flip, which re-connects vertices without
     /// re-sampling any (every vertex keeps its id and its data).
     pub fn from_mutation(mutation: &Mutation) -> Option<Self> {
-        match *mutation {
-            Mutation::SplitEdge { a, b, created, t } => Some(Self::split_edge(a, b, created, t)),
-            Mutation::SplitFace {
+        match mutation {
+            &Mutation::SplitEdge { a, b, created, t } => Some(Self::split_edge(a, b, created, t)),
+            &Mutation::SplitFace {
                 corners,
                 created,
                 weights,
             } => Some(Self::split_face(corners, created, weights)),
-            Mutation::Collapse { a, b, created } => Some(Self::collapse(a, b, created)),
+            &Mutation::Collapse { a, b, created } => Some(Self::collapse(a, b, created)),
+            Mutation::PatchCreated { created, sources } => {
+                Some(Self::patch_created(*created, sources.clone()))
+            }
+            Mutation::PatchDeleted { deleted, sources } => {
+                Some(Self::patch_deleted(*deleted, sources.clone()))
+            }
             Mutation::Flip { .. } => None,
         }
     }

@@ -37,6 +37,8 @@ pub enum MeshError {
     },
     #[error("isolated vertex {vertex} belongs to no triangle")]
     IsolatedVertex { vertex: usize },
+    #[error("patch replacement: {0}")]
+    Replacement(#[from] super::ReplacementError),
     #[error("half-edge structure corrupt: {0}")]
     Corrupt(String),
 }

@@ -10,6 +10,7 @@ mod mutation;
 mod normals;
 mod primitives;
 mod quality;
+mod replace;
 mod topology;
 mod validate;
 
@@ -19,4 +20,5 @@ pub use indexed::{Attribute, IndexedMesh};
 pub use mutation::Mutation;
 pub use normals::NormalWeighting;
 pub use quality::{QualityStats, aspect_ratio, min_angle_degrees};
+pub use replace::{Replacement, ReplacementError};
 pub use topology::{ComponentTopology, Topology};

@@ -34,9 +34,8 @@
 mod graft;
 
 use crate::compute::Backend;
-use crate::events::{Event, EventList};
 use crate::grid::RasterError;
-use crate::mesh::{IndexedMesh, Mesh, MeshError};
+use crate::mesh::{IndexedMesh, Mesh, MeshError, Mutation, Replacement};
 use crate::project::{Bvh, ProjectError, closest_points};
 use crate::topology::nearest::Survivors;
 use glam::Vec3;
@@ -132,8 +131,9 @@ fn components(mesh: &IndexedMesh) -> (Vec<Component>, Vec<u32>) {
 
 /// Makes `mesh`'s components agree with `target`'s where the grid of spacing `spacing` cannot
 /// (see the module comment); `max_distance` (world units) is the farthest either surface may lie
-/// from the other. `bvh` is built over `target`. Returns the events (creations first, then
-/// deletions) and what changed; `mesh` is untouched when nothing does.
+/// from the other. `bvh` is built over `target`. The change goes through `Mesh::replace`, whose
+/// record lists creations first, then deletions. Returns what changed; `mesh` is untouched when
+/// nothing does.
 pub fn reconcile_components(
     backend: &Backend,
     mesh: &mut Mesh,
@@ -142,7 +142,7 @@ pub fn reconcile_components(
     spacing: f32,
     max_distance: f32,
     fidelity: Fidelity,
-) -> Result<(EventList, ReconcileCounts), ReconcileError> {
+) -> Result<ReconcileCounts, ReconcileError> {
     let current = mesh.to_indexed();
     let (ours, our_labels) = components(&current);
     let (theirs, target_labels) = components(target);
@@ -304,7 +304,7 @@ pub fn reconcile_components(
         grafts[k] = grafted;
     }
     if !counts.changed() {
-        return Ok((EventList::new(), counts));
+        return Ok(counts);
     }
 
     // The new surface: our kept triangles, then per component of theirs its copied triangles and
@@ -359,7 +359,7 @@ pub fn reconcile_components(
 
     // Creations: a copied vertex takes its data from the component it replaces or is grafted
     // into, any other copy from the nearest vertex.
-    let mut events = EventList::new();
+    let mut record: Vec<Mutation> = Vec::new();
     let mut next_id = mesh.next_id();
     let mut target_index = vec![u32::MAX; target.positions.len()];
     let mut survivors_of: Vec<Vec<u32>> = vec![Vec::new(); theirs.len()];
@@ -393,10 +393,10 @@ pub fn reconcile_components(
             survivors_of[k].push(positions.len() as u32);
             positions.push(p);
             new_ids.push(next_id);
-            events.push(Event::patch_created(
-                next_id,
-                source.map(|s| vec![(s, 1.0)]).unwrap_or_default(),
-            ));
+            record.push(Mutation::PatchCreated {
+                created: next_id,
+                sources: source.map(|s| vec![(s, 1.0)]).unwrap_or_default(),
+            });
             next_id += 1;
         }
         let corner = |c: Corner| match c {
@@ -446,20 +446,18 @@ pub fn reconcile_components(
     for c in (0..ours.len()).filter(|&c| delete[c]) {
         for &v in ours[c].vertices.iter().filter(|&&v| !keep[v as usize]) {
             let source = source_of[c].nearest(current.positions[v as usize]);
-            events.push(Event::patch_deleted(
-                id_of(v),
-                source
+            record.push(Mutation::PatchDeleted {
+                deleted: id_of(v),
+                sources: source
                     .map(|i| vec![(new_ids[i as usize], 1.0)])
                     .unwrap_or_default(),
-            ));
+            });
         }
     }
-    let mut rebuilt = IndexedMesh::new(positions, triangles);
-    rebuilt.ids = Some(new_ids);
-    let mut replacement = Mesh::from_indexed(&rebuilt)?;
-    replacement.reserve_ids_below(next_id);
-    *mesh = replacement;
-    Ok((events, counts))
+    let mut surface = IndexedMesh::new(positions, triangles);
+    surface.ids = Some(new_ids);
+    mesh.replace(Replacement { surface, record })?;
+    Ok(counts)
 }
 
 /// The triangles (indices) of each of `count` components, by the label of their first vertex.

@@ -29,7 +29,7 @@ use super::points::Point;
 use super::record::record;
 use super::region::{Checks, grow};
 use super::{Resampling, TopologyError, TopologyOptions, TopologyReport};
-use crate::mesh::{Attribute, IndexedMesh, Mesh, MeshError};
+use crate::mesh::{IndexedMesh, Mesh, MeshError, Replacement};
 
 /// Constrains the topology of `mesh` to that of Θ's isosurface (paper §4.3): where the two differ
 /// deeply, the mesh's triangles are replaced by Θ's isosurface, cut and stitched along the boundary
@@ -39,8 +39,9 @@ use crate::mesh::{Attribute, IndexedMesh, Mesh, MeshError};
 ///
 /// The result is closed, 2-manifold and consistently oriented, with the same components and
 /// per-component Euler characteristic as Θ's isosurface; its new vertices lie on Θ's zero set or on
-/// the cut. New vertices get fresh ids; the report's events say where every created and removed
-/// vertex came from and went (paper §4.4), and attribute channels are carried by the same rules.
+/// the cut. New vertices get fresh ids; the record of where every created and removed vertex came
+/// from and went (paper §4.4) goes with the new surface into `Mesh::replace`, which journals it and
+/// carries attribute channels by the same rules.
 /// Triangle quality is not this step's concern: the caller improves the mesh afterwards
 /// (Algorithm 1, line 12).
 pub fn constrain_topology(
@@ -48,21 +49,19 @@ pub fn constrain_topology(
     theta: &Field,
     options: &TopologyOptions,
 ) -> Result<TopologyReport, TopologyError> {
-    let (report, rebuilt) = resample(mesh, theta, options)?;
-    if let Some(mut rebuilt) = rebuilt {
-        rebuilt.next_id = mesh.next_id() + (report.cut + report.patch) as u64;
-        rebuilt.journal = mesh.journal.take();
-        *mesh = rebuilt;
+    let (report, replacement) = resample(mesh, theta, options)?;
+    if let Some(replacement) = replacement {
+        mesh.replace(replacement)?;
     }
     Ok(report)
 }
 
-/// The attempts of [`constrain_topology`]; the new mesh, unless nothing changes.
+/// The attempts of [`constrain_topology`]; the new surface and its record, unless nothing changes.
 fn resample(
     mesh: &Mesh,
     theta: &Field,
     options: &TopologyOptions,
-) -> Result<(TopologyReport, Option<Mesh>), TopologyError> {
+) -> Result<(TopologyReport, Option<Replacement>), TopologyError> {
     let start = Instant::now();
     let input = mesh.to_indexed();
     let surface = theta.surface();
@@ -110,14 +109,14 @@ fn resample(
                 extra.extend(points.iter().flat_map(|p| point_cells(&grid, p)));
             }
             Ok((built, recorded, verdict)) => match verdict {
-                Ok(rebuilt) => {
+                Ok(surface) => {
                     report.resampling = Resampling::Local { attempt };
                     report.region = region.iter().copied().collect();
                     report.region.sort_unstable();
-                    summarize(recorded, &mut report);
+                    let replacement = summarize(surface, recorded, &mut report);
                     report.euler = target;
                     report.total = start.elapsed();
-                    return Ok((report, Some(rebuilt)));
+                    return Ok((report, Some(replacement)));
                 }
                 Err(Failure::Topology) => {
                     report
@@ -144,9 +143,9 @@ fn resample(
         extra = widen(&extra);
     }
     report.region_cells = surface.len();
-    let rebuilt = replace_whole(mesh, &grid, theta, iso, iso_edges, &target, &mut report)?;
+    let replacement = replace_whole(mesh, &grid, theta, iso, iso_edges, &target, &mut report)?;
     report.total = start.elapsed();
-    Ok((report, Some(rebuilt)))
+    Ok((report, Some(replacement)))
 }
 
 /// The attempts, from the configured depth to the strictest classification with wide margins.
@@ -213,23 +212,25 @@ enum Failure {
     Topology,
 }
 
-/// The half-edge mesh of a result that is closed, manifold, oriented and non-degenerate (checked
-/// by `Mesh::from_indexed`, once) and has Θ's topology.
+/// A result, with its ids, that is closed, manifold, oriented and non-degenerate (or empty) and
+/// has Θ's topology.
 fn verify(
     mesh: &IndexedMesh,
     recorded: &super::record::Recorded,
     target: &[i64],
-) -> Result<Mesh, Failure> {
+) -> Result<IndexedMesh, Failure> {
     if signature(mesh) != target {
         return Err(Failure::Topology);
     }
-    if mesh.triangles.is_empty() {
-        return Ok(empty_mesh(&recorded.attributes));
-    }
     let mut output = mesh.clone();
     output.ids = Some(recorded.ids.clone());
-    output.attributes = recorded.attributes.clone();
-    Mesh::from_indexed(&output).map_err(|e| {
+    output.attributes.clear();
+    if output.triangles.is_empty() {
+        output.positions.clear();
+        output.ids = Some(Vec::new());
+        return Ok(output);
+    }
+    output.validate().map(|()| output).map_err(|e| {
         Failure::Element(match e {
             MeshError::DegenerateFace { triangle } => mesh.triangles[triangle].to_vec(),
             MeshError::OpenBoundary { a, b, .. }
@@ -271,35 +272,19 @@ fn widen(cells: &[Cell]) -> Vec<Cell> {
     out
 }
 
-/// What the recorded surgery did, into the report.
-fn summarize(recorded: super::record::Recorded, report: &mut TopologyReport) {
+/// What the recorded surgery did, into the report; the replacement it stands for.
+fn summarize(
+    surface: IndexedMesh,
+    recorded: super::record::Recorded,
+    report: &mut TopologyReport,
+) -> Replacement {
     report.kept = recorded.ids.len() - recorded.cut - recorded.patch;
     report.deleted = recorded.deleted;
     report.cut = recorded.cut;
     report.patch = recorded.patch;
-    report.events = recorded.events;
-}
-
-/// A mesh with no vertices and the given attribute channels (emptied).
-fn empty_mesh(attributes: &[Attribute]) -> Mesh {
-    Mesh {
-        positions: Vec::new(),
-        ids: Vec::new(),
-        vertex_half_edge: Vec::new(),
-        origin: Vec::new(),
-        twin: Vec::new(),
-        attributes: attributes
-            .iter()
-            .map(|a| Attribute {
-                name: a.name.clone(),
-                components: a.components,
-                values: Vec::new(),
-            })
-            .collect(),
-        free_vertices: Vec::new(),
-        free_faces: Vec::new(),
-        next_id: 0,
-        journal: None,
+    Replacement {
+        surface,
+        record: recorded.record,
     }
 }
 
@@ -312,7 +297,7 @@ fn replace_whole(
     edges: Vec<GridEdge>,
     target: &[i64],
     report: &mut TopologyReport,
-) -> Result<Mesh, TopologyError> {
+) -> Result<Replacement, TopologyError> {
     let clock = Instant::now();
     place_isosurface(theta, &mut iso, &edges);
     let built = Built {
@@ -321,14 +306,14 @@ fn replace_whole(
         parameters: Default::default(),
     };
     let recorded = record(grid, &built, &Default::default(), mesh.next_id());
-    let rebuilt =
+    let surface =
         verify(&built.mesh, &recorded, target).map_err(|_| TopologyError::Unresolved {
             attempts: report.abandoned.len() + 1,
             reason: report.abandoned.join("; "),
         })?;
     report.resampling = Resampling::Whole;
-    summarize(recorded, report);
+    let replacement = summarize(surface, recorded, report);
     report.euler = target.to_vec();
     report.rebuild += clock.elapsed();
-    Ok(rebuilt)
+    Ok(replacement)
 }

@@ -1,4 +1,6 @@
-//! The event records of one topology change (paper §4.4) and the attribute values of new vertices.
+//! The record of one topology change (paper §4.4): how every new vertex takes its data and every
+//! removed one gives it, handed to the mesh with the new surface (`Mesh::replace`), which carries
+//! the attribute channels by the same rules.
 //!
 //! * A cut point is a vertex inserted on the input surface: on a mesh edge (`split_edge`, linear
 //!   in its parameter) or inside a triangle (`split_face`, barycentric).
@@ -21,16 +23,14 @@ use super::build::Built;
 use super::mesh_grid::MeshGrid;
 use super::nearest::Survivors;
 use super::points::Point;
-use crate::events::{Event, EventList};
-use crate::mesh::Attribute;
+use crate::mesh::Mutation;
 use rustc_hash::{FxHashMap, FxHashSet};
 
-/// Ids, attributes and events of an assembled surface.
+/// Ids and record of an assembled surface.
 #[derive(Debug, Clone)]
 pub(crate) struct Recorded {
     pub ids: Vec<u64>,
-    pub attributes: Vec<Attribute>,
-    pub events: EventList,
+    pub record: Vec<Mutation>,
     pub cut: usize,
     pub patch: usize,
     pub deleted: usize,
@@ -71,22 +71,12 @@ pub(crate) fn record(
             }
         };
     }
-    let mut attributes: Vec<Attribute> = input
-        .attributes
-        .iter()
-        .map(|a| Attribute {
-            name: a.name.clone(),
-            components: a.components,
-            values: vec![0.0; a.components * n_out],
-        })
-        .collect();
-    let mut events = EventList::new();
+    let mut record: Vec<Mutation> = Vec::new();
 
-    // Cut points, and the attributes of every vertex on the input surface.
+    // Cut points.
     let mut cut = 0;
     for (i, p) in built.points.iter().enumerate() {
-        let terms: Vec<(u32, f32)> = match *p {
-            Point::Vertex(v) => vec![(v, 1.0)],
+        match *p {
             Point::Pierce { edge, axis, plane } => {
                 let s = built
                     .parameters
@@ -94,13 +84,12 @@ pub(crate) fn record(
                     .copied()
                     .unwrap_or(0.5) as f32;
                 let [a, b] = grid.edges().verts[edge as usize];
-                events.push(Event::split_edge(
-                    input_ids[a as usize],
-                    input_ids[b as usize],
-                    ids[i],
-                    s,
-                ));
-                vec![(a, 1.0 - s), (b, s)]
+                record.push(Mutation::SplitEdge {
+                    a: input_ids[a as usize],
+                    b: input_ids[b as usize],
+                    created: ids[i],
+                    t: s,
+                });
             }
             Point::Crossing { triangle, .. } => {
                 let corners = input.triangles[triangle as usize];
@@ -108,24 +97,15 @@ pub(crate) fn record(
                     corners.map(|v| input.positions[v as usize]),
                     built.mesh.positions[i],
                 );
-                events.push(Event::split_face(
-                    corners.map(|v| input_ids[v as usize]),
-                    ids[i],
-                    w,
-                ));
-                corners.into_iter().zip(w).collect()
+                record.push(Mutation::SplitFace {
+                    corners: corners.map(|v| input_ids[v as usize]),
+                    created: ids[i],
+                    weights: w,
+                });
             }
-            Point::Level(_) | Point::Centre { .. } => continue,
-        };
-        cut += usize::from(!matches!(p, Point::Vertex(_)));
-        for (a, src) in attributes.iter_mut().zip(&input.attributes) {
-            let k = a.components;
-            for (v, w) in &terms {
-                for c in 0..k {
-                    a.values[i * k + c] += w * src.values[*v as usize * k + c];
-                }
-            }
+            Point::Vertex(_) | Point::Level(_) | Point::Centre { .. } => continue,
         }
+        cut += 1;
     }
 
     // Deleted vertices: neighbours along input edges, through the nearest surviving cut point.
@@ -188,18 +168,18 @@ pub(crate) fn record(
     let reached: FxHashSet<u32> = order.iter().copied().collect();
     for &d in deleted.iter().filter(|d| !reached.contains(d)) {
         let source = survivors.nearest(input.positions[d as usize]);
-        events.push(Event::patch_deleted(
-            input_ids[d as usize],
-            source
+        record.push(Mutation::PatchDeleted {
+            deleted: input_ids[d as usize],
+            sources: source
                 .map(|i| vec![(ids[i as usize], 1.0)])
                 .unwrap_or_default(),
-        ));
+        });
     }
     for (d, terms) in order.iter().zip(&rules).rev() {
-        events.push(Event::patch_deleted(
-            input_ids[*d as usize],
-            rule_ids(terms),
-        ));
+        record.push(Mutation::PatchDeleted {
+            deleted: input_ids[*d as usize],
+            sources: rule_ids(terms),
+        });
     }
 
     // New fill vertices: neighbours along the result's edges.
@@ -236,38 +216,24 @@ pub(crate) fn record(
                 Near::Boundary(i) | Near::Patch(i) => i,
             })
             .collect();
-        for a in attributes.iter_mut() {
-            let k = a.components;
-            for c in 0..k {
-                let sum: f32 = sources.iter().map(|&s| a.values[s as usize * k + c]).sum();
-                a.values[v as usize * k + c] = w * sum;
-            }
-        }
-        let terms = sources.iter().map(|&s| (ids[s as usize], w)).collect();
-        events.push(Event::patch_created(ids[v as usize], terms));
+        record.push(Mutation::PatchCreated {
+            created: ids[v as usize],
+            sources: sources.iter().map(|&s| (ids[s as usize], w)).collect(),
+        });
     }
     let reached: FxHashSet<u32> = order.iter().copied().collect();
     for &v in fill.iter().filter(|v| !reached.contains(v)) {
         let source = survivors.nearest(built.mesh.positions[v as usize]);
-        if let Some(s) = source {
-            for a in attributes.iter_mut() {
-                let k = a.components;
-                for c in 0..k {
-                    a.values[v as usize * k + c] = a.values[s as usize * k + c];
-                }
-            }
-        }
-        events.push(Event::patch_created(
-            ids[v as usize],
-            source
+        record.push(Mutation::PatchCreated {
+            created: ids[v as usize],
+            sources: source
                 .map(|s| vec![(ids[s as usize], 1.0)])
                 .unwrap_or_default(),
-        ));
+        });
     }
     Recorded {
         ids,
-        attributes,
-        events,
+        record,
         cut,
         patch: fill.len(),
         deleted: deleted.len(),

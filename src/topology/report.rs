@@ -1,7 +1,5 @@
 use std::time::Duration;
 
-use crate::events::EventList;
-
 /// How the surface was replaced.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Resampling {
@@ -38,8 +36,6 @@ pub struct TopologyReport {
     pub euler: Vec<i64>,
     /// Why each earlier attempt was abandoned, in order.
     pub abandoned: Vec<String>,
-    /// Events of this call, in order (paper §4.4).
-    pub events: EventList,
     /// Time spent classifying and growing the region (over all attempts); cutting, filling,
     /// assembling, recording and verifying (over all attempts); and in the whole call.
     pub classify: Duration,

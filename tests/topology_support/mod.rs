@@ -5,7 +5,7 @@ use std::collections::{HashMap, HashSet};
 
 use glam::Vec3;
 use surftrack::compute::Backend;
-use surftrack::events::{EventKind, VertexValues, backward, forward};
+use surftrack::events::{EventKind, EventList, VertexValues, backward, forward};
 use surftrack::grid::{GridFrame, ScalarGrid, marching_cubes};
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::topology::{Field, Resampling, TopologyOptions, constrain_topology};
@@ -340,8 +340,10 @@ pub fn check(case: &Case) -> Result<Outcome, String> {
     };
     mesh.add_attribute("one", 1, 1.0);
     let next_id = mesh.next_id();
+    mesh.record_mutations();
     let report = constrain_topology(&mut mesh, &case.theta, &TopologyOptions::default())
         .map_err(|e| format!("constrain_topology failed: {e}"))?;
+    let events = EventList::drain(&mut mesh);
     let out = mesh.to_indexed();
     if !out.triangles.is_empty() {
         out.validate().map_err(|e| format!("output invalid: {e}"))?;
@@ -401,11 +403,11 @@ pub fn check(case: &Case) -> Result<Outcome, String> {
         }
         Resampling::Whole => {}
     }
-    report.events.check().map_err(|e| format!("events: {e}"))?;
+    events.check().map_err(|e| format!("events: {e}"))?;
     // A constant carried forward and backward stays constant wherever it arrives.
     let ones = vec![1.0f32; input_ids.len()];
     let mut values = VertexValues::from_parts(1, &input_ids, &ones).map_err(|e| e.to_string())?;
-    forward(&report.events, &mut values).map_err(|e| format!("forward: {e}"))?;
+    forward(&events, &mut values).map_err(|e| format!("forward: {e}"))?;
     for &id in ids {
         if let Some(v) = values.get(id)
             && (v[0] - 1.0).abs() > 1e-4
@@ -415,7 +417,7 @@ pub fn check(case: &Case) -> Result<Outcome, String> {
     }
     let out_ones = vec![1.0f32; ids.len()];
     let mut values = VertexValues::from_parts(1, ids, &out_ones).map_err(|e| e.to_string())?;
-    backward(&report.events, &mut values).map_err(|e| format!("backward: {e}"))?;
+    backward(&events, &mut values).map_err(|e| format!("backward: {e}"))?;
     for &id in &input_ids {
         if let Some(v) = values.get(id)
             && (v[0] - 1.0).abs() > 1e-4
@@ -431,8 +433,7 @@ pub fn check(case: &Case) -> Result<Outcome, String> {
     {
         return Err("carried attribute is not constant".into());
     }
-    let created: Vec<u64> = report
-        .events
+    let created: Vec<u64> = events
         .events
         .iter()
         .filter(|e| e.kind == EventKind::PatchCreated)
