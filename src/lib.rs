@@ -11,7 +11,6 @@ pub mod io;
 pub mod mesh;
 pub mod project;
 pub mod propagate;
-pub mod reconcile;
 pub mod register;
 pub mod synth;
 pub mod topology;

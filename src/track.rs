@@ -1,7 +1,7 @@
 //! Algorithm 1 of the paper (§4.5): one tracked mesh `M` carried through the input frames —
 //! register to each target (coarse, fine), improve, merge self-intersections
 //! (`ConstrainTopology(M, Φ(M))`), take the target's topology (`ConstrainTopology(M, Φ(T_j))`),
-//! match the components too small for the grid to see (`reconcile`), improve — while every vertex
+//! match what is too small for the grid to see (`topology::subgrid`), improve — while every vertex
 //! created or destroyed goes into the frame's event list (§4.4).
 //!
 //! The tracker holds one frame at a time, so memory follows the frame size, never the sequence
@@ -14,8 +14,8 @@ use crate::grid::{GridFrame, RasterError};
 use crate::improve::{ImproveError, ImproveParams, improve};
 use crate::mesh::{IndexedMesh, Mesh, MeshError};
 use crate::project::{Bvh, ProjectError, closest_points};
-use crate::reconcile::{Fidelity, ReconcileCounts, ReconcileError, reconcile_components};
 use crate::register::{RegisterError, RegisterOptions, register_onto};
+use crate::topology::subgrid::{Fidelity, SubgridCounts, SubgridError, match_and_improve};
 use crate::topology::{Field, TopologyError, TopologyOptions, constrain_topology};
 use serde::{Deserialize, Serialize};
 use std::time::{Duration, Instant};
@@ -37,7 +37,7 @@ pub struct TrackOptions {
     pub motion: Motion,
     /// Farthest, in units of `L`, the tracked surface and the target may lie from each other at
     /// the end of the topology steps: a component that does not come this close (a sheet thinner
-    /// than the grid sees) is replaced by the target's own (see [`crate::reconcile`]).
+    /// than the grid sees) is replaced by the target's own (see [`crate::topology::subgrid`]).
     pub max_distance: f32,
     /// Whether a component the grid leaves unlike the target is replaced by the target's own.
     pub fidelity: Fidelity,
@@ -95,10 +95,7 @@ pub enum TrackError {
     #[error("frame {frame}: {source}")]
     Project { frame: usize, source: ProjectError },
     #[error("frame {frame}: matching components below the grid's resolution: {source}")]
-    Reconcile {
-        frame: usize,
-        source: ReconcileError,
-    },
+    Reconcile { frame: usize, source: SubgridError },
     #[error("frame {frame}: cannot place the topology grid: {source}")]
     Grid { frame: usize, source: RasterError },
     #[error("the target edge length {0} is not a positive finite number")]
@@ -114,7 +111,7 @@ pub struct StageTimes {
     pub topology_self: f64,
     /// `ConstrainTopology(M, Φ(T))` itself; `Φ(T)` was computed during registration.
     pub topology_target: f64,
-    /// Matching the components the topology grid cannot see (`reconcile`).
+    /// The sub-grid match (`topology::subgrid`): what the topology grid cannot see.
     pub reconcile: f64,
     pub residual: f64,
     pub total: f64,
@@ -159,7 +156,7 @@ pub struct FrameLog {
     pub registration_converged: bool,
     pub topology_changed: bool,
     /// Components below the grid's resolution deleted, copied in or replaced.
-    pub reconciled: ReconcileCounts,
+    pub reconciled: SubgridCounts,
     pub times: StageTimes,
 }
 
@@ -267,19 +264,75 @@ impl Tracker {
     ) -> Result<(EventList, FrameLog), TrackError> {
         let start = Instant::now();
         let mut times = StageTimes::default();
-
-        let t = Instant::now();
-        // The target's tree serves the projection baseline, reconciliation and the residual.
+        // The target's tree serves the projection baseline, the sub-grid match and the residual.
         let bvh = Bvh::build(target).map_err(|source| TrackError::Project { frame, source })?;
-        // Φ(T) depends on the target frame alone, so it is computed while the mesh registers:
-        // registration's sparse factorizations run on one core, and the other one would idle.
+        // Lines 5–6: M follows T_j; Φ(T_j) is sampled meanwhile.
+        let (converged, phi_t) = self.follow(backend, frame, target, &bvh, &mut times)?;
+        // Line 7: improve.
+        self.improve(frame, &mut times)?;
+        // Lines 8–9: merge M's self-intersections, ConstrainTopology(M, Φ(M)).
+        let t = Instant::now();
+        let phi_m = Field::signed_distance(backend, self.grid, &self.mesh.to_indexed())
+            .map_err(|source| TrackError::Topology { frame, source })?;
+        let merged = self.constrain(frame, &phi_m)?;
+        times.topology_self = ms(t.elapsed());
+        // Lines 10–11: take the target's topology, ConstrainTopology(M, Φ(T_j)).
+        let t = Instant::now();
+        let constrained = self.constrain(frame, &phi_t)?;
+        times.topology_target = ms(t.elapsed());
+        // What the grid cannot see, then line 12: improve (with the match's re-check).
+        let t = Instant::now();
+        let matched = match_and_improve(
+            backend,
+            &mut self.mesh,
+            (target, &bvh),
+            (
+                self.grid.spacing(),
+                self.options.max_distance * self.params.edge_length,
+            ),
+            self.options.fidelity,
+            &self.params,
+        )
+        .map_err(|source| TrackError::Reconcile { frame, source })?;
+        times.improve += ms(matched.improve);
+        times.reconcile = ms(t.elapsed()) - ms(matched.improve);
+
+        // Every stage changed the mesh through its mutations: one drain gives the frame's events.
+        let events = EventList::drain(&mut self.mesh);
+        self.mesh.compact();
+        let residual = self.residual(backend, &bvh, frame, &mut times)?;
+        times.total = ms(start.elapsed());
+        let mut log = self.log(
+            frame,
+            &events,
+            residual,
+            converged,
+            merged || constrained || matched.counts.changed(),
+            times,
+        );
+        log.reconciled = matched.counts;
+        Ok((events, log))
+    }
+
+    /// Moves the mesh onto `target` (Algorithm 1, lines 5–6) and samples Φ(T) alongside: Φ(T)
+    /// depends on the target frame alone, and registration's sparse factorizations run on one
+    /// core, so the other would idle. Returns whether registration converged, and Φ(T).
+    fn follow(
+        &mut self,
+        backend: &Backend,
+        frame: usize,
+        target: &IndexedMesh,
+        bvh: &Bvh,
+        times: &mut StageTimes,
+    ) -> Result<(bool, Field), TrackError> {
+        let t = Instant::now();
         let (mesh, options, grid) = (&mut self.mesh, &self.options, self.grid);
         let (moved, phi_t) = rayon::join(
             || match options.motion {
-                Motion::Register => register_onto(backend, mesh, &bvh, &options.register)
+                Motion::Register => register_onto(backend, mesh, bvh, &options.register)
                     .map(|report| report.converged())
                     .map_err(|source| TrackError::Register { frame, source }),
-                Motion::Project => project_onto(backend, mesh, &bvh)
+                Motion::Project => project_onto(backend, mesh, bvh)
                     .map(|()| true)
                     .map_err(|source| TrackError::Project { frame, source }),
             },
@@ -291,92 +344,14 @@ impl Tracker {
         let converged = moved?;
         let phi_t = phi_t?;
         times.register = ms(t.elapsed());
-        self.improve(frame, &mut times)?;
-
-        let t = Instant::now();
-        let phi_m = Field::signed_distance(backend, self.grid, &self.mesh.to_indexed())
-            .map_err(|source| TrackError::Topology { frame, source })?;
-        let merged = constrain_topology(&mut self.mesh, &phi_m, &self.options.topology)
-            .map_err(|source| TrackError::Topology { frame, source })?;
-        times.topology_self = ms(t.elapsed());
-        let self_changed = merged.changed();
-
-        let t = Instant::now();
-        let constrained = constrain_topology(&mut self.mesh, &phi_t, &self.options.topology)
-            .map_err(|source| TrackError::Topology { frame, source })?;
-        times.topology_target = ms(t.elapsed());
-        let target_changed = constrained.changed();
-
-        let mut counts = self.reconcile(
-            backend,
-            frame,
-            (target, &bvh),
-            self.options.fidelity,
-            &mut times,
-        )?;
-        self.improve(frame, &mut times)?;
-
-        // Improvement reshapes a graft's seam, whose thin triangles it may collapse and flip many
-        // times over, each step within its own small bound; the steps can add up to more than
-        // the distance bound. A grafted frame is checked again: a component that moved out of
-        // bounds is grafted again around where it did, and if that too moves out, replaced
-        // whole, a surface improvement barely touches.
-        let mut grafted = counts.grafted;
-        for fidelity in [Fidelity::Input, Fidelity::InputWhole] {
-            if grafted == 0 {
-                break;
-            }
-            let recheck = self.reconcile(backend, frame, (target, &bvh), fidelity, &mut times)?;
-            grafted = recheck.grafted;
-            if !recheck.changed() {
-                break;
-            }
-            self.improve(frame, &mut times)?;
-            counts.grafted = counts.grafted.saturating_sub(recheck.replaced);
-            counts.replaced += recheck.replaced;
-            counts.deleted += recheck.deleted;
-            counts.inserted += recheck.inserted;
-        }
-        let events = EventList::drain(&mut self.mesh);
-        self.mesh.compact();
-
-        let residual = self.residual(backend, &bvh, frame, &mut times)?;
-        times.total = ms(start.elapsed());
-        let mut log = self.log(
-            frame,
-            &events,
-            residual,
-            converged,
-            self_changed || target_changed || counts.changed(),
-            times,
-        );
-        log.reconciled = counts;
-        Ok((events, log))
+        Ok((converged, phi_t))
     }
 
-    /// Reconciles the components below the grid with `target` (see [`reconcile_components`]),
-    /// adding its time.
-    fn reconcile(
-        &mut self,
-        backend: &Backend,
-        frame: usize,
-        (target, bvh): (&IndexedMesh, &Bvh),
-        fidelity: Fidelity,
-        times: &mut StageTimes,
-    ) -> Result<ReconcileCounts, TrackError> {
-        let t = Instant::now();
-        let counts = reconcile_components(
-            backend,
-            &mut self.mesh,
-            target,
-            bvh,
-            self.grid.spacing(),
-            self.options.max_distance * self.params.edge_length,
-            fidelity,
-        )
-        .map_err(|source| TrackError::Reconcile { frame, source })?;
-        times.reconcile += ms(t.elapsed());
-        Ok(counts)
+    /// `ConstrainTopology(M, Θ)` (paper §4.3); whether it changed the mesh.
+    fn constrain(&mut self, frame: usize, theta: &Field) -> Result<bool, TrackError> {
+        constrain_topology(&mut self.mesh, theta, &self.options.topology)
+            .map(|report| report.changed())
+            .map_err(|source| TrackError::Topology { frame, source })
     }
 
     /// Improves the mesh (paper §4.1), adding its time.
@@ -433,7 +408,7 @@ impl Tracker {
             residual_max,
             registration_converged,
             topology_changed,
-            reconciled: ReconcileCounts::default(),
+            reconciled: SubgridCounts::default(),
             times,
         }
     }

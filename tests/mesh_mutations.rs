@@ -72,6 +72,9 @@ fn exercise(input: &IndexedMesh, seed: u64, operations: usize) {
                 | Mutation::SplitFace { created, .. }
                 | Mutation::Collapse { created, .. } => Some(created),
                 Mutation::Flip { .. } => None,
+                Mutation::PatchCreated { .. } | Mutation::PatchDeleted { .. } => {
+                    panic!("a local mutation journaled a patch record")
+                }
             };
             if let Some(id) = created {
                 assert!(seen_ids.insert(id), "id {id} reused");

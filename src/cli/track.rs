@@ -14,8 +14,8 @@ use surftrack::io::{
     write_ply,
 };
 use surftrack::mesh::IndexedMesh;
-use surftrack::reconcile::Fidelity;
 use surftrack::register::FineOptions;
+use surftrack::topology::subgrid::Fidelity;
 use surftrack::track::{
     FrameLog, MAX_DISTANCE, Motion, TRACK_MAX_DEVIATION, TrackOptions, Tracker,
 };

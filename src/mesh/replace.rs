@@ -121,8 +121,8 @@ impl Mesh {
             .map(|v| (self.id(v), v.0 as usize))
             .collect();
         let mut values: Vec<Vec<f32>> = self.attributes.iter().map(|a| a.values.clone()).collect();
-        let mut slots = self.positions.len();
-        for (created, terms) in record.iter().filter_map(Mutation::created) {
+        let created = record.iter().filter_map(Mutation::created);
+        for (at, (created, terms)) in (self.positions.len()..).zip(created) {
             for (channel, a) in values.iter_mut().zip(&self.attributes) {
                 let k = a.components;
                 let mut sum = vec![0.0f32; k];
@@ -135,8 +135,7 @@ impl Mesh {
                 }
                 channel.extend(sum);
             }
-            slot.insert(created, slots);
-            slots += 1;
+            slot.insert(created, at);
         }
         self.attributes
             .iter()

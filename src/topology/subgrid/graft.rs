@@ -31,12 +31,13 @@
 use glam::Vec3;
 use rustc_hash::{FxHashMap, FxHashSet};
 
-use super::{ReconcileError, far_components};
+use super::SubgridError;
+use super::matching::far_components;
 use crate::compute::Backend;
 use crate::grid::{GridFrame, LatticeMesh, cross_axes, rasterize};
 use crate::mesh::{IndexedMesh, min_angle_degrees};
 use crate::project::Bvh;
-use crate::topology::dilate;
+use crate::topology::classify::dilate;
 
 /// Edge-connected pieces smaller than this many triangles join the region: they are slivers
 /// between region cells, not surface worth keeping apart from the rest.
@@ -137,7 +138,7 @@ pub(super) fn graft(
     theirs: &Side,
     far: &[Vec3],
     bounds: &Bounds,
-) -> Result<Option<Graft>, ReconcileError> {
+) -> Result<Option<Graft>, SubgridError> {
     let frame = GridFrame::new(Vec3::ZERO, bounds.spacing)?;
     let input = submesh(theirs.mesh, &theirs.triangles);
     let mut region = region(bounds.backend, &frame, ours, &input, far)?;
@@ -283,7 +284,7 @@ fn crossing_counts(
     backend: &Backend,
     frame: &GridFrame,
     surface: &IndexedMesh,
-) -> Result<FxHashMap<([i32; 3], usize), u32>, ReconcileError> {
+) -> Result<FxHashMap<([i32; 3], usize), u32>, SubgridError> {
     let lattice = LatticeMesh::new(*frame, surface)?;
     let mut counts = FxHashMap::default();
     for crossing in rasterize(backend, &lattice)?.all() {
@@ -301,7 +302,7 @@ fn region(
     ours: &Side,
     input: &IndexedMesh,
     far: &[Vec3],
-) -> Result<Vec<[i32; 3]>, ReconcileError> {
+) -> Result<Vec<[i32; 3]>, SubgridError> {
     let our_counts = crossing_counts(backend, frame, &submesh(ours.mesh, &ours.triangles))?;
     let their_counts = crossing_counts(backend, frame, input)?;
     let mut seeds: Vec<[i32; 3]> = far.iter().map(|&p| cell(frame, p)).collect();
@@ -698,7 +699,7 @@ fn check(
     ours: &IndexedMesh,
     (theirs, input): (&IndexedMesh, &IndexedMesh),
     bounds: &Bounds,
-) -> Result<Verdict, ReconcileError> {
+) -> Result<Verdict, SubgridError> {
     let part = assemble(graft, ours, theirs);
     if part.validate().is_err() {
         return Ok(Verdict::Fails);

@@ -10,7 +10,7 @@ use surftrack::compute::Backend;
 use surftrack::events::{VertexValues, backward, forward};
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::project::Bvh;
-use surftrack::reconcile::{Fidelity, ReconcileCounts, reconcile_components};
+use surftrack::topology::subgrid::{Fidelity, SubgridCounts, match_below_grid};
 
 fn constant(ids: &[u64]) -> VertexValues {
     VertexValues::from_parts(1, ids, &vec![0.25; ids.len()]).unwrap()
@@ -27,7 +27,7 @@ fn run(
     ours: &IndexedMesh,
     target: &IndexedMesh,
     spacing: f32,
-) -> (Mesh, Mesh, ReconcileCounts, surftrack::events::EventList) {
+) -> (Mesh, Mesh, SubgridCounts, surftrack::events::EventList) {
     run_with(ours, target, spacing, spacing, Fidelity::Input)
 }
 
@@ -37,16 +37,15 @@ fn run_with(
     spacing: f32,
     max_distance: f32,
     fidelity: Fidelity,
-) -> (Mesh, Mesh, ReconcileCounts, surftrack::events::EventList) {
+) -> (Mesh, Mesh, SubgridCounts, surftrack::events::EventList) {
     let before = Mesh::from_indexed(ours).unwrap();
     let mut mesh = before.clone();
     mesh.record_mutations();
     let bvh = Bvh::build(target).unwrap();
-    let counts = reconcile_components(
+    let counts = match_below_grid(
         &Backend::Cpu,
         &mut mesh,
-        target,
-        &bvh,
+        (target, &bvh),
         spacing,
         max_distance,
         fidelity,
@@ -67,7 +66,7 @@ fn droplets_below_the_grid_follow_the_target() {
     let (before, mesh, counts, events) = run(&ours, &target, 0.5);
     assert_eq!(
         counts,
-        ReconcileCounts {
+        SubgridCounts {
             deleted: 1,
             inserted: 1,
             replaced: 0,
@@ -112,7 +111,7 @@ fn a_matching_mesh_is_left_alone() {
         IndexedMesh::icosphere(Vec3::new(2.0, 0.01, 0.0), 0.1, 2),
     ]);
     let (before, mesh, counts, events) = run(&ours, &target, 0.5);
-    assert_eq!(counts, ReconcileCounts::default());
+    assert_eq!(counts, SubgridCounts::default());
     assert!(events.is_empty());
     assert_eq!(mesh.to_indexed(), before.to_indexed());
 }
@@ -179,7 +178,7 @@ fn a_large_component_with_another_topology_is_replaced_and_keeps_its_data() {
     let target = IndexedMesh::torus(0.8, 0.3, 48, 16);
 
     let (_, kept, counts, events) = run_with(&ours, &target, 0.25, 0.25, Fidelity::Grid);
-    assert_eq!(counts, ReconcileCounts::default(), "grid fidelity keeps it");
+    assert_eq!(counts, SubgridCounts::default(), "grid fidelity keeps it");
     assert!(events.is_empty());
     assert_eq!(
         kept.to_indexed(),
@@ -189,7 +188,7 @@ fn a_large_component_with_another_topology_is_replaced_and_keeps_its_data() {
     let (before, mesh, counts, events) = run(&ours, &target, 0.25);
     assert_eq!(
         counts,
-        ReconcileCounts {
+        SubgridCounts {
             deleted: 0,
             inserted: 0,
             replaced: 1,
@@ -220,7 +219,7 @@ fn a_component_farther_than_the_bound_is_replaced() {
     let ours = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
     let target = IndexedMesh::icosphere(Vec3::ZERO, 1.3, 3);
     let (_, _, counts, _) = run_with(&ours, &target, 0.5, 0.4, Fidelity::Input);
-    assert_eq!(counts, ReconcileCounts::default(), "0.3 apart, bound 0.4");
+    assert_eq!(counts, SubgridCounts::default(), "0.3 apart, bound 0.4");
     let (_, mesh, counts, events) = run_with(&ours, &target, 0.5, 0.2, Fidelity::Input);
     assert_eq!(counts.replaced, 1, "0.3 apart, bound 0.2");
     assert_eq!(mesh.to_indexed().positions, target.positions);
@@ -228,7 +227,7 @@ fn a_component_farther_than_the_bound_is_replaced() {
     let (_, _, counts, _) = run_with(&ours, &target, 0.5, 0.2, Fidelity::Grid);
     assert_eq!(
         counts,
-        ReconcileCounts::default(),
+        SubgridCounts::default(),
         "grid fidelity ignores the bound"
     );
 }
@@ -260,7 +259,7 @@ fn a_local_difference_is_grafted_and_the_rest_keeps_its_vertices() {
     let (before, mesh, counts, events) = run_with(&ours, &target, 0.25, 0.15, Fidelity::Input);
     assert_eq!(
         counts,
-        ReconcileCounts {
+        SubgridCounts {
             deleted: 0,
             inserted: 0,
             replaced: 0,
@@ -320,7 +319,7 @@ fn whole_input_fidelity_replaces_instead_of_grafting() {
     let (_, mesh, counts, events) = run_with(&ours, &target, 0.25, 0.15, Fidelity::InputWhole);
     assert_eq!(
         counts,
-        ReconcileCounts {
+        SubgridCounts {
             deleted: 0,
             inserted: 0,
             replaced: 1,

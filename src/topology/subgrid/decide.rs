@@ -1,0 +1,192 @@
+//! The decision, per component of the input, of which tracked components stay on it and which
+//! are deleted, and whether a copy of it is inserted, replaces them whole or is grafted into them
+//! (see the module above).
+
+use glam::Vec3;
+
+use super::graft::{self, Bounds, Graft, Side};
+use super::matching::far_components;
+use super::{Fidelity, SMALL_CELLS, SubgridCounts, SubgridError, Surfaces};
+use crate::project::Bvh;
+
+/// What the sub-grid match does to each component.
+pub(super) struct Plan {
+    /// Per tracked component: whether it goes (deleted, replaced, or grafted: then only the
+    /// triangles its graft keeps stay).
+    pub delete: Vec<bool>,
+    /// Per input component: whether a whole copy of it comes in.
+    pub insert: Vec<bool>,
+    /// Per input component: the graft that joins it to the tracked components it matches.
+    pub grafts: Vec<Option<Graft>>,
+    /// Per input component: the tracked components its copy or graft replaces.
+    pub replaces: Vec<Vec<usize>>,
+    pub counts: SubgridCounts,
+}
+
+/// Decides for every component of `s` matched as `matched` (the input component each tracked one
+/// lies on) under `fidelity`.
+pub(super) fn decide(
+    s: &Surfaces,
+    matched: &[Option<usize>],
+    fidelity: Fidelity,
+) -> Result<Plan, SubgridError> {
+    let (current, target) = (s.current, s.target);
+    let (ours, our_labels, our_triangles) = (&s.ours.list, &s.ours.labels, &s.ours.triangles);
+    let (theirs, target_labels, their_triangles) =
+        (&s.theirs.list, &s.theirs.labels, &s.theirs.triangles);
+    let (backend, bvh, spacing, max_distance) = (s.backend, s.bvh, s.spacing, s.max_distance);
+    let small = SMALL_CELLS * spacing;
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); theirs.len()];
+    for (c, m) in matched.iter().enumerate() {
+        if let Some(k) = *m {
+            members[k].push(c);
+        }
+    }
+    let largest: Vec<Option<usize>> = members
+        .iter()
+        .map(|group| {
+            group
+                .iter()
+                .copied()
+                .max_by_key(|&c| (ours[c].vertices.len(), std::cmp::Reverse(c)))
+        })
+        .collect();
+    let (our_far, their_far) = match fidelity {
+        Fidelity::Input | Fidelity::InputWhole if !current.triangles.is_empty() => {
+            // The input is measured against what stays if every group is faithful: without the
+            // unmatched components and the small duplicates, which are deleted then.
+            let ours = &ours;
+            let stays: Vec<u32> = members
+                .iter()
+                .zip(&largest)
+                .flat_map(|(group, &l)| {
+                    group
+                        .iter()
+                        .copied()
+                        .filter(move |&c| Some(c) == l || ours[c].diagonal > small)
+                })
+                .flat_map(|c| our_triangles[c].iter().copied())
+                .collect();
+            let staying = graft::submesh(current, &stays);
+            (
+                far_components(
+                    backend,
+                    bvh,
+                    current,
+                    our_labels,
+                    ours.len(),
+                    max_distance,
+                )?,
+                if staying.triangles.is_empty() {
+                    theirs
+                        .iter()
+                        .map(|c| {
+                            c.vertices
+                                .iter()
+                                .map(|&v| target.positions[v as usize])
+                                .collect()
+                        })
+                        .collect()
+                } else {
+                    far_components(
+                        backend,
+                        &Bvh::build(&staying)?,
+                        target,
+                        target_labels,
+                        theirs.len(),
+                        max_distance,
+                    )?
+                },
+            )
+        }
+        _ => (vec![Vec::new(); ours.len()], vec![Vec::new(); theirs.len()]),
+    };
+
+    // Decide, per component of theirs, which of ours stay on it, or whether a copy replaces them,
+    // whole or grafted.
+    let mut delete = vec![false; ours.len()];
+    let mut insert = vec![false; theirs.len()];
+    let mut grafts: Vec<Option<Graft>> = (0..theirs.len()).map(|_| None).collect();
+    let mut replaces: Vec<Vec<usize>> = vec![Vec::new(); theirs.len()];
+    let mut counts = SubgridCounts::default();
+    for (c, _) in matched.iter().enumerate().filter(|(_, m)| m.is_none()) {
+        delete[c] = true;
+        counts.deleted += 1;
+    }
+    for (k, group) in members.iter().enumerate() {
+        let Some(largest) = largest[k] else {
+            insert[k] = true;
+            counts.inserted += 1;
+            continue;
+        };
+        let others = group.iter().copied().filter(|&c| c != largest);
+        let faithful = match fidelity {
+            Fidelity::Input | Fidelity::InputWhole => {
+                ours[largest].euler == theirs[k].euler
+                    && our_far[largest].is_empty()
+                    && their_far[k].is_empty()
+                    && others.clone().all(|c| ours[c].diagonal <= small)
+            }
+            Fidelity::Grid => {
+                ours[largest].euler == theirs[k].euler
+                    || ours[largest].diagonal > small
+                    || theirs[k].diagonal > small
+            }
+        };
+        if faithful {
+            for c in others.filter(|&c| ours[c].diagonal <= small) {
+                delete[c] = true;
+                counts.deleted += 1;
+            }
+            continue;
+        }
+        let grafted = match fidelity {
+            Fidelity::Input => {
+                let far: Vec<Vec3> = group
+                    .iter()
+                    .flat_map(|&c| &our_far[c])
+                    .chain(&their_far[k])
+                    .copied()
+                    .collect();
+                graft::graft(
+                    &Side::new(
+                        current,
+                        group
+                            .iter()
+                            .flat_map(|&c| &our_triangles[c])
+                            .copied()
+                            .collect(),
+                    ),
+                    &Side::new(target, their_triangles[k].clone()),
+                    &far,
+                    &Bounds {
+                        backend,
+                        target_bvh: bvh,
+                        spacing,
+                        max_distance,
+                        euler: theirs[k].euler,
+                    },
+                )?
+            }
+            Fidelity::InputWhole | Fidelity::Grid => None,
+        };
+        for &c in group {
+            delete[c] = true;
+        }
+        replaces[k] = group.clone();
+        if grafted.is_some() {
+            counts.grafted += 1;
+        } else {
+            insert[k] = true;
+            counts.replaced += 1;
+        }
+        grafts[k] = grafted;
+    }
+    Ok(Plan {
+        delete,
+        insert,
+        grafts,
+        replaces,
+        counts,
+    })
+}

@@ -1,0 +1,190 @@
+//! Where each component lies: the component of the other surface each one is on (by a vote of
+//! its vertices), and the samples of each farther than the distance bound from the other.
+
+use glam::Vec3;
+
+use super::{SubgridError, VOTERS};
+use crate::compute::Backend;
+use crate::mesh::IndexedMesh;
+use crate::project::{Bvh, closest_points};
+
+/// One component of a mesh: its vertices (indices), Euler characteristic and extent.
+pub(super) struct Component {
+    pub vertices: Vec<u32>,
+    pub euler: i64,
+    pub diagonal: f32,
+}
+
+/// The components of `mesh` and the component of each of its vertices.
+fn components(mesh: &IndexedMesh) -> (Vec<Component>, Vec<u32>) {
+    let (topology, labels) = mesh.topology_with_labels();
+    let mut out: Vec<Component> = topology
+        .components
+        .iter()
+        .map(|c| Component {
+            vertices: Vec::with_capacity(c.vertices),
+            euler: c.euler,
+            diagonal: 0.0,
+        })
+        .collect();
+    let mut bounds = vec![(Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)); out.len()];
+    for (v, &label) in labels.iter().enumerate() {
+        if let Some(c) = out.get_mut(label as usize) {
+            c.vertices.push(v as u32);
+            let p = mesh.positions[v];
+            let b = &mut bounds[label as usize];
+            *b = (b.0.min(p), b.1.max(p));
+        }
+    }
+    for (c, (lo, hi)) in out.iter_mut().zip(bounds) {
+        c.diagonal = (hi - lo).length();
+    }
+    (out, labels)
+}
+
+/// The components of one surface, the component of each vertex and the triangles of each.
+pub(super) struct Components {
+    pub list: Vec<Component>,
+    pub labels: Vec<u32>,
+    pub triangles: Vec<Vec<u32>>,
+}
+
+impl Components {
+    pub fn of(mesh: &IndexedMesh) -> Self {
+        let (list, labels) = components(mesh);
+        let triangles = triangles_by_component(mesh, &labels, list.len());
+        Self {
+            list,
+            labels,
+            triangles,
+        }
+    }
+}
+
+/// The triangles (indices) of each of `count` components, by the label of their first vertex.
+fn triangles_by_component(mesh: &IndexedMesh, labels: &[u32], count: usize) -> Vec<Vec<u32>> {
+    let mut out = vec![Vec::new(); count];
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        if let Some(list) = labels
+            .get(tri[0] as usize)
+            .and_then(|&k| out.get_mut(k as usize))
+        {
+            list.push(t as u32);
+        }
+    }
+    out
+}
+
+/// The component of `target` (vertex labels `target_labels`, `theirs` components) each of `ours`
+/// lies on: each votes, vertex by vertex, for the target component within a cell; a large
+/// component votes with an evenly strided sample of its vertices. `None` where no component has
+/// a majority.
+pub(super) fn match_components(
+    backend: &Backend,
+    current: &IndexedMesh,
+    ours: &[Component],
+    (target, target_labels, theirs): (&IndexedMesh, &[u32], usize),
+    bvh: &Bvh,
+    spacing: f32,
+) -> Result<Vec<Option<usize>>, SubgridError> {
+    let sample: Vec<Vec<u32>> = ours
+        .iter()
+        .map(|c| {
+            let step = c.vertices.len().div_ceil(VOTERS).max(1);
+            c.vertices.iter().step_by(step).copied().collect()
+        })
+        .collect();
+    let points: Vec<Vec3> = sample
+        .iter()
+        .flatten()
+        .map(|&v| current.positions[v as usize])
+        .collect();
+    let reach = spacing / bvh.mean_edge_length();
+    let nearest = closest_points(backend, bvh, &points, reach)?;
+    let mut matched: Vec<Option<usize>> = Vec::with_capacity(ours.len());
+    let mut hits = nearest.iter();
+    for s in &sample {
+        let mut votes = vec![0usize; theirs];
+        for hit in hits.by_ref().take(s.len()) {
+            if let Some(t) = hit.hit_triangle()
+                && let Some(&[a, _, _]) = target.triangles.get(t as usize)
+                && let Some(k) = target_labels.get(a as usize)
+                && let Some(count) = votes.get_mut(*k as usize)
+            {
+                *count += 1;
+            }
+        }
+        let best = (0..votes.len()).max_by_key(|&k| (votes[k], std::cmp::Reverse(k)));
+        matched.push(best.filter(|&k| 2 * votes[k] > s.len()));
+    }
+    Ok(matched)
+}
+
+/// The samples of each component of `mesh` (vertex labels `labels`, `count` components) farther
+/// than `max_distance` (world units) from the surface in `bvh`, measured where `eval` measures: at every
+/// vertex, edge midpoint and triangle centroid.
+///
+/// Only vertices are queried first: distance to a surface is 1-Lipschitz, so a midpoint or
+/// centroid lies within `max_distance` when one of its triangle's vertices lies within
+/// `max_distance` minus its offset from that vertex. Only the samples this leaves open are
+/// queried, which on a tracked frame are almost none, so the check costs about one query per
+/// vertex instead of four.
+pub(super) fn far_components(
+    backend: &Backend,
+    bvh: &Bvh,
+    mesh: &IndexedMesh,
+    labels: &[u32],
+    count: usize,
+    max_distance: f32,
+) -> Result<Vec<Vec<Vec3>>, SubgridError> {
+    let reach = max_distance / bvh.mean_edge_length();
+    let distance: Vec<f32> = closest_points(backend, bvh, &mesh.positions, reach)?
+        .iter()
+        .map(|hit| match hit.hit_triangle() {
+            Some(_) => hit.distance.abs(),
+            None => f32::INFINITY,
+        })
+        .collect();
+    let mut far: Vec<Vec<Vec3>> = vec![Vec::new(); count];
+    let mut mark = |label: Option<&u32>, p: Vec3| {
+        if let Some(f) = label.and_then(|&k| far.get_mut(k as usize)) {
+            f.push(p);
+        }
+    };
+    for (v, d) in distance.iter().enumerate() {
+        if d.is_infinite() {
+            mark(labels.get(v), mesh.positions[v]);
+        }
+    }
+    // A margin for rounding, so a bound never admits a sample the query would reject.
+    let bounded = max_distance * (1.0 - 1e-4);
+    let within = |p: Vec3, corners: &[u32]| {
+        corners
+            .iter()
+            .any(|&v| distance[v as usize] + (p - mesh.positions[v as usize]).length() <= bounded)
+    };
+    let (mut open, mut owners) = (Vec::new(), Vec::new());
+    for tri in &mesh.triangles {
+        let p = tri.map(|v| mesh.positions[v as usize]);
+        let centroid = (p[0] + p[1] + p[2]) / 3.0;
+        let midpoints = (0..3)
+            .filter(|&k| tri[k] < tri[(k + 1) % 3])
+            .map(|k| (p[k] + p[(k + 1) % 3]) * 0.5);
+        for s in std::iter::once(centroid).chain(midpoints) {
+            if !within(s, tri) {
+                open.push(s);
+                owners.push(labels.get(tri[0] as usize).copied().unwrap_or(u32::MAX));
+            }
+        }
+    }
+    if open.is_empty() {
+        return Ok(far);
+    }
+    let found = closest_points(backend, bvh, &open, reach)?;
+    for ((hit, owner), &p) in found.iter().zip(&owners).zip(&open) {
+        if hit.hit_triangle().is_none() {
+            mark(Some(owner), p);
+        }
+    }
+    Ok(far)
+}

@@ -1,0 +1,208 @@
+//! Components the grid cannot resolve. `ConstrainTopology` (paper §4.3) sees the surfaces only
+//! through a grid of spacing Δ: a droplet smaller than a cell, or one that vanished inside a cell,
+//! leaves no trace in it, and neither does a sheet thinner than a cell, a tunnel through one or a
+//! bridge narrower than one (notes on the topology step, §6: "sub-cell components inside a simple
+//! cell are invisible to every test; pick a policy"). Fluid caches are full of them: marching cubes
+//! of a particle field sheds droplets of a handful of vertices every frame and leaves splash sheets
+//! a tenth of an edge thick, pierced by holes. Refining the grid does not converge on such input
+//! (its features reach every scale), so the tracked mesh takes the input's own geometry where the
+//! grid fails: after the two topology steps every component of `M` is matched with the component
+//! of `T` that most of its vertices lie on (within one cell), and:
+//!
+//! * a component of `M` that lies on no component of `T` (a droplet `T` lost) is deleted;
+//! * a component of `T` that no component of `M` lies on (a droplet born below the grid) is copied
+//!   in with fresh ids;
+//! * a small component of `M` (within [`SMALL_CELLS`] cells) that shares its match with a larger
+//!   one is deleted;
+//! * a component whose match it does not reproduce — another Euler characteristic, another large
+//!   component on the same match (a bridge below the grid), or a sample of either surface farther
+//!   than `max_distance` from the other (a sheet below the grid) — takes its match's triangles
+//!   only in the cells around the difference ([`graft`]), keeping its own vertices elsewhere, or,
+//!   where no graft meets the bounds, is replaced by a whole copy of its match.
+//!
+//! Everything the grid resolves was already resolved by `ConstrainTopology`, so replacement is the
+//! exception on clean input and the guarantee on real data: afterwards `M` has the input's
+//! components and Euler characteristics, and lies within `max_distance` of it.
+//!
+//! Like a topology patch with no boundary (§4.4), each vertex of a replaced component takes its data
+//! from the nearest vertex of the copy going backward, and each vertex of the copy takes, going
+//! forward, the data of the nearest vertex of the component it replaces; an inserted droplet takes
+//! the data of the nearest vertex before the change, a deleted one that of the nearest vertex after
+//! it. So every vertex of every frame holds a value (unless a whole frame is empty), a constant
+//! channel stays constant, and colours stay near where they were.
+
+mod decide;
+mod graft;
+mod matching;
+mod rebuild;
+
+use crate::compute::Backend;
+use crate::grid::RasterError;
+use crate::improve::{ImproveError, ImproveParams, improve};
+use crate::mesh::{IndexedMesh, Mesh, MeshError};
+use crate::project::{Bvh, ProjectError};
+use matching::Components;
+use serde::{Deserialize, Serialize};
+use std::time::{Duration, Instant};
+use thiserror::Error;
+
+/// Components whose bounding-box diagonal is at most this many cells count as small.
+pub const SMALL_CELLS: f32 = 4.0;
+
+/// Most vertices of one component that vote on its match.
+const VOTERS: usize = 256;
+
+/// How closely the tracked mesh must follow the input where the grid cannot see.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Fidelity {
+    /// The input's components and Euler characteristics, within `max_distance`, on every frame:
+    /// a component of any size the grid leaves different is replaced.
+    #[default]
+    Input,
+    /// As `Input`, but a component that differs is always replaced whole, never grafted: where
+    /// the input differs the surface is the input's own, with no seam for improvement to reshape.
+    InputWhole,
+    /// The topology the grid resolves (paper §4.3), plus the components below
+    /// [`SMALL_CELLS`]: larger components keep their vertices (and their coherence) even where
+    /// the input has a sheet, tunnel or bridge thinner than a cell.
+    Grid,
+}
+
+/// What the sub-grid match changed in one frame.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SubgridCounts {
+    /// Components of `M` deleted (on no component of `T`, or a small duplicate).
+    pub deleted: usize,
+    /// Components of `T` copied in (no component of `M` on them).
+    pub inserted: usize,
+    /// Components of `M` replaced whole by a copy of their match.
+    pub replaced: usize,
+    /// Components of `M` that took their match's triangles only where the two differ.
+    #[serde(default)]
+    pub grafted: usize,
+}
+
+impl SubgridCounts {
+    pub fn changed(&self) -> bool {
+        self.deleted + self.inserted + self.replaced + self.grafted > 0
+    }
+}
+
+#[derive(Debug, Error)]
+pub enum SubgridError {
+    #[error("matching components: {0}")]
+    Project(#[from] ProjectError),
+    #[error("rebuilding the mesh: {0}")]
+    Mesh(#[from] MeshError),
+    #[error("comparing the surfaces on the grid: {0}")]
+    Raster(#[from] RasterError),
+    #[error("improving the matched surface: {0}")]
+    Improve(#[from] ImproveError),
+}
+
+/// The two surfaces as the steps of the sub-grid match see them.
+struct Surfaces<'a> {
+    backend: &'a Backend,
+    /// The tracked mesh and its components.
+    current: &'a IndexedMesh,
+    ours: &'a Components,
+    /// The input frame, its components and its tree.
+    target: &'a IndexedMesh,
+    theirs: &'a Components,
+    bvh: &'a Bvh,
+    /// The topology grid's spacing, and the farthest either surface may lie from the other
+    /// (world units).
+    spacing: f32,
+    max_distance: f32,
+}
+
+/// Makes `mesh`'s components agree with `target`'s where the grid of spacing `spacing` cannot
+/// (see the module comment); `max_distance` (world units) is the farthest either surface may lie
+/// from the other. `bvh` is built over `target`. The change goes through `Mesh::replace`, whose
+/// record lists creations first, then deletions. Returns what changed; `mesh` is untouched when
+/// nothing does.
+pub fn match_below_grid(
+    backend: &Backend,
+    mesh: &mut Mesh,
+    (target, bvh): (&IndexedMesh, &Bvh),
+    spacing: f32,
+    max_distance: f32,
+    fidelity: Fidelity,
+) -> Result<SubgridCounts, SubgridError> {
+    let current = mesh.to_indexed();
+    let ours = Components::of(&current);
+    let theirs = Components::of(target);
+    let surfaces = Surfaces {
+        backend,
+        current: &current,
+        ours: &ours,
+        target,
+        theirs: &theirs,
+        bvh,
+        spacing,
+        max_distance,
+    };
+    let matched = matching::match_components(
+        backend,
+        &current,
+        &ours.list,
+        (target, &theirs.labels, theirs.list.len()),
+        bvh,
+        spacing,
+    )?;
+    let plan = decide::decide(&surfaces, &matched, fidelity)?;
+    if plan.counts.changed() {
+        mesh.replace(rebuild::replacement(&surfaces, &plan, mesh.next_id()))?;
+    }
+    Ok(plan.counts)
+}
+
+/// What the sub-grid match of one frame did, and how long its improvement passes took.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SubgridReport {
+    pub counts: SubgridCounts,
+    pub improve: Duration,
+}
+
+/// The sub-grid match of one frame (Algorithm 1 after line 10), with the improvement that follows
+/// it (line 12) and its re-check: [`match_below_grid`], then improvement. Improvement reshapes a
+/// graft's seam, whose thin triangles it may collapse and flip many times over, each step within
+/// its own small bound; the steps can add up to more than `max_distance`. So a grafted frame is
+/// matched again: a component that moved out of bounds is grafted again around where it did, and
+/// if that too moves out, replaced whole, a surface improvement barely touches.
+pub fn match_and_improve(
+    backend: &Backend,
+    mesh: &mut Mesh,
+    target: (&IndexedMesh, &Bvh),
+    (spacing, max_distance): (f32, f32),
+    fidelity: Fidelity,
+    params: &ImproveParams,
+) -> Result<SubgridReport, SubgridError> {
+    let mut report = SubgridReport::default();
+    let mut improve_timed = |mesh: &mut Mesh| -> Result<(), SubgridError> {
+        let t = Instant::now();
+        improve(mesh, params)?;
+        report.improve += t.elapsed();
+        Ok(())
+    };
+    let mut counts = match_below_grid(backend, mesh, target, spacing, max_distance, fidelity)?;
+    improve_timed(mesh)?;
+    let mut grafted = counts.grafted;
+    for again in [Fidelity::Input, Fidelity::InputWhole] {
+        if grafted == 0 {
+            break;
+        }
+        let recheck = match_below_grid(backend, mesh, target, spacing, max_distance, again)?;
+        grafted = recheck.grafted;
+        if !recheck.changed() {
+            break;
+        }
+        improve_timed(mesh)?;
+        counts.grafted = counts.grafted.saturating_sub(recheck.replaced);
+        counts.replaced += recheck.replaced;
+        counts.deleted += recheck.deleted;
+        counts.inserted += recheck.inserted;
+    }
+    report.counts = counts;
+    Ok(report)
+}
