@@ -21,9 +21,10 @@ use surftrack::compute::Backend;
 use surftrack::grid::GridFrame;
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::project::{Bvh, closest_points};
+use surftrack::sequence::{FrameSource, track_sequence};
 use surftrack::synth::{Scene, SynthOptions, extract, plan};
 use surftrack::topology::{Field, TopologyOptions, TopologyReport, constrain_topology};
-use surftrack::track::{TrackOptions, Tracker};
+use surftrack::track::TrackOptions;
 
 /// Cells across the scene: frames of about 100k vertices.
 const RESOLUTION: usize = 256;
@@ -162,12 +163,15 @@ fn bench(c: &mut Criterion) {
 /// One step of the tracker onto the merge frame: the topology passes' share of the frame's time.
 fn frame_share(frames: &[IndexedMesh], merge: usize) {
     let backend = Backend::Cpu;
-    let options = TrackOptions::default();
-    let (mut tracker, _, _) =
-        Tracker::start(&frames[merge - 1], &backend, &options).expect("first frame is valid");
-    let (_, log) = tracker
-        .step(&backend, merge, &frames[merge])
-        .expect("tracking never fails");
+    let report = track_sequence::<()>(
+        FrameSource::Meshes(&frames[merge - 1..=merge]),
+        &backend,
+        &TrackOptions::default(),
+        None,
+        |_| {},
+    )
+    .expect("tracking never fails");
+    let log = &report.frames[1];
     let t = &log.times;
     let topology = t.topology_self + t.topology_target;
     eprintln!(

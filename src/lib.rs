@@ -12,6 +12,7 @@ pub mod mesh;
 pub mod project;
 pub mod propagate;
 pub mod register;
+pub mod sequence;
 pub mod synth;
 pub mod topology;
 pub mod track;

@@ -1,6 +1,7 @@
 //! The CLI on bad input: every broken file gives a clear error naming the file and what is wrong, a
 //! non-zero exit, and never a panic. On good input `inspect` succeeds and agrees with the manifest.
 
+mod data_support;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -78,14 +79,9 @@ fn a_missing_file_is_named() {
 /// manifold and its topology matches the generator's manifest (inspect fails on any mismatch).
 #[test]
 fn dambreak_topology_matches_its_manifest() {
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/dambreak_sph_warp");
-    if !data.is_dir() {
-        eprintln!(
-            "skipping: {} is not present (it sits beside the checkout in CI)",
-            data.display()
-        );
+    let Some(data) = data_support::dambreak() else {
         return;
-    }
+    };
     let out = surftrack(&["inspect", data.to_str().unwrap(), "--json"]);
     assert!(
         out.status.success(),

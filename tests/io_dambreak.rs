@@ -1,16 +1,14 @@
 //! The third-party dam-break frames (Blender `.bobj.gz`) load unrepaired and match the vertex,
 //! face and topology counts of their manifest.
 
-use std::path::Path;
+mod data_support;
 use surftrack::io::{discover_sequence, read_frame};
 
 #[test]
 fn every_dambreak_frame_loads_clean_and_matches_its_manifest() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/dambreak_sph_warp");
-    if !dir.is_dir() {
-        eprintln!("skipped: {} is absent", dir.display());
+    let Some(dir) = data_support::dambreak() else {
         return;
-    }
+    };
     let manifest: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.join("manifest.json")).unwrap()).unwrap();
     let expected = manifest["frames"].as_array().unwrap();

@@ -1,5 +1,6 @@
 //! Sequence discovery: numeric order, patterns, gaps, and refusing ambiguous directories.
 
+mod data_support;
 use std::fs;
 use std::path::{Path, PathBuf};
 use surftrack::io::{IoError, discover_sequence};
@@ -130,11 +131,9 @@ fn a_single_file_is_a_sequence_of_one() {
 
 #[test]
 fn the_dambreak_frames_form_one_gapless_sequence() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/dambreak_sph_warp");
-    if !dir.is_dir() {
-        eprintln!("skipped: {} is absent", dir.display());
+    let Some(dir) = data_support::dambreak() else {
         return;
-    }
+    };
     let sequence = discover_sequence(&dir).unwrap();
     assert_eq!(sequence.pattern, "fluid_mesh_####.bobj.gz");
     assert_eq!(numbers(&sequence.frames), (0..45).collect::<Vec<_>>());

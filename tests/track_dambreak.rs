@@ -4,13 +4,15 @@
 //! one input edge length of the input, with 99% of its triangles at 10° or more; a constant channel
 //! carried through the event lists stays constant on every vertex, forward and backward.
 
-use std::path::Path;
+mod data_support;
+
 use surftrack::compute::Backend;
 use surftrack::eval::{surface_distances, triangle_quality};
 use surftrack::events::{EventList, VertexValues, backward, forward};
 use surftrack::io::{discover_sequence, read_frame};
 use surftrack::mesh::IndexedMesh;
-use surftrack::track::{TrackOptions, Tracker};
+use surftrack::sequence::{FrameSource, Progress, track_sequence};
+use surftrack::track::TrackOptions;
 
 /// Frames 17–20 of the sequence: 9, 7, 18 and 13 components.
 const FIRST: usize = 17;
@@ -21,10 +23,6 @@ fn euler(mesh: &IndexedMesh) -> Vec<i64> {
     let mut e: Vec<i64> = mesh.topology().components.iter().map(|c| c.euler).collect();
     e.sort_unstable();
     e
-}
-
-fn ids(tracker: &Tracker) -> Vec<u64> {
-    tracker.mesh().to_indexed().ids.unwrap()
 }
 
 fn assert_constant(values: &VertexValues, ids: &[u64], what: &str) {
@@ -43,35 +41,46 @@ fn assert_constant(values: &VertexValues, ids: &[u64], what: &str) {
 
 #[test]
 fn droplets_are_tracked_and_data_follows_them() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/dambreak_sph_warp");
-    if !dir.is_dir() {
-        eprintln!("skipped: {} is absent", dir.display());
+    let Some(dir) = data_support::dambreak() else {
         return;
-    }
+    };
     let sequence = discover_sequence(&dir).unwrap();
-    let frames: Vec<_> = sequence.frames[FIRST..FIRST + COUNT]
+    let paths: Vec<_> = sequence.frames[FIRST..FIRST + COUNT]
         .iter()
-        .map(|(_, path)| read_frame(path).unwrap().mesh)
+        .map(|(_, path)| path.clone())
         .collect();
     let backend = Backend::Cpu;
-    let (mut tracker, _, _) =
-        Tracker::start(&frames[0], &backend, &TrackOptions::default()).unwrap();
-    let mut all_ids = vec![ids(&tracker)];
+    let mut tracked: Vec<(IndexedMesh, EventList)> = Vec::new();
+    track_sequence::<()>(
+        FrameSource::Files(&paths),
+        &backend,
+        &TrackOptions::default(),
+        None,
+        |progress| {
+            if let Progress::Frame {
+                tracker, events, ..
+            } = progress
+            {
+                tracked.push((tracker.mesh().to_indexed(), events.clone()));
+            }
+        },
+    )
+    .unwrap();
+    let mut all_ids = vec![tracked[0].0.ids.clone().unwrap()];
     let mut lists: Vec<EventList> = Vec::new();
-    for (k, target) in frames.iter().enumerate().skip(1) {
-        let (events, _) = tracker.step(&backend, k, target).unwrap();
+    for (k, (out, events)) in tracked.into_iter().enumerate().skip(1) {
+        let target = read_frame(&paths[k]).unwrap().mesh;
         events.check().unwrap();
-        let out = tracker.mesh().to_indexed();
         out.validate()
             .unwrap_or_else(|e| panic!("frame {}: {e}", FIRST + k));
         assert_eq!(
             euler(&out),
-            euler(target),
+            euler(&target),
             "frame {}: components' Euler characteristics",
             FIRST + k
         );
         let delta = target.mean_edge_length();
-        let distance = surface_distances(&backend, &out, target).unwrap();
+        let distance = surface_distances(&backend, &out, &target).unwrap();
         assert!(
             distance.hausdorff() <= delta,
             "frame {}: Hausdorff {} Δ",
@@ -86,7 +95,7 @@ fn droplets_are_tracked_and_data_follows_them() {
             quality.above_threshold
         );
         lists.push(events);
-        all_ids.push(ids(&tracker));
+        all_ids.push(out.ids.unwrap());
     }
 
     let start = &all_ids[0];

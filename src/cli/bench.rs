@@ -8,8 +8,9 @@ use std::path::PathBuf;
 use surftrack::compute::{Backend, BackendChoice};
 use surftrack::io::{discover_sequence, read_frame};
 use surftrack::mesh::IndexedMesh;
+use surftrack::sequence::{FrameSource, track_sequence};
 use surftrack::synth::{Scene, SynthOptions, generate};
-use surftrack::track::{StageTimes, TrackOptions, Tracker};
+use surftrack::track::{StageTimes, TrackOptions};
 
 #[derive(Debug, Args)]
 pub struct BenchArgs {
@@ -103,12 +104,16 @@ fn time(name: &str, frames: &[IndexedMesh], backends: &[Backend]) -> Result<(), 
         return Ok(());
     };
     for backend in backends {
-        let track = TrackOptions::default();
-        let (mut tracker, _, _) = Tracker::start(first, backend, &track)?;
+        let report = track_sequence::<()>(
+            FrameSource::Meshes(frames),
+            backend,
+            &TrackOptions::default(),
+            None,
+            |_| {},
+        )?;
         let mut sum = StageTimes::default();
-        for (k, frame) in frames.iter().enumerate().skip(1) {
-            let (_, log) = tracker.step(backend, k, frame)?;
-            let t = log.times;
+        for log in report.frames.iter().skip(1) {
+            let t = &log.times;
             sum.register += t.register;
             sum.improve += t.improve;
             sum.topology_self += t.topology_self;

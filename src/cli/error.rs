@@ -24,11 +24,8 @@ pub enum CliError {
     ManifestMismatch { path: PathBuf, count: usize },
     #[error(transparent)]
     Track(#[from] surftrack::track::TrackError),
-    #[error("cannot create {}: {source}", path.display())]
-    Create {
-        path: PathBuf,
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Sequence(#[from] surftrack::sequence::SequenceError),
     #[error("cannot write the JSON summary: {0}")]
     Json(#[from] serde_json::Error),
     #[error(transparent)]

@@ -5,24 +5,15 @@ use super::CliError;
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::{Deserialize, Serialize};
-use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::path::PathBuf;
 use surftrack::compute::{Backend, BackendChoice};
-use surftrack::events::file::encode;
-use surftrack::io::{
-    ObjOptions, atomic_write, discover_sequence, prepare_output_dir, read_frame, write_obj,
-    write_ply,
-};
-use surftrack::mesh::IndexedMesh;
+use surftrack::io::discover_sequence;
 use surftrack::register::FineOptions;
-use surftrack::topology::subgrid::Fidelity;
-use surftrack::track::{
-    FrameLog, MAX_DISTANCE, Motion, TRACK_MAX_DEVIATION, TrackOptions, Tracker,
+use surftrack::sequence::{
+    FrameFormat, FrameSource, Layout, Output, Progress, SUMMARY_FILE, Start, track_sequence,
 };
-
-/// Version of `track.json`.
-const STATE_VERSION: u32 = 1;
-const STATE_FILE: &str = "track.json";
+use surftrack::topology::subgrid::Fidelity;
+use surftrack::track::{FrameLog, MAX_DISTANCE, Motion, TRACK_MAX_DEVIATION, TrackOptions};
 
 #[derive(Debug, Args)]
 pub struct TrackArgs {
@@ -173,46 +164,16 @@ pub enum MeshFormat {
     Obj,
 }
 
-/// `track.json`: what was asked, and how far the run got (see `docs/output_layout.md`).
-#[derive(Debug, Serialize, Deserialize)]
-struct State {
-    version: u32,
-    input: Vec<PathBuf>,
-    format: MeshFormat,
-    params: MethodParams,
-    edge_length: f32,
-    completed: usize,
-    next_id: u64,
-    frames: Vec<FrameLog>,
-}
-
-/// The end-of-run summary.
-#[derive(Debug, Serialize)]
-struct Summary<'a> {
-    frames: usize,
-    seconds: f64,
-    backend: String,
-    edge_length: f32,
-    total_events: usize,
-    topology_changes: usize,
-    max_residual: f64,
-    per_frame: &'a [FrameLog],
-}
-
-pub fn frame_path(out: &Path, k: usize, format: MeshFormat) -> PathBuf {
-    let ext = match format {
-        MeshFormat::Ply => "ply",
-        MeshFormat::Obj => "obj",
-    };
-    out.join("frames").join(format!("frame_{k:04}.{ext}"))
-}
-
-pub fn events_path(out: &Path, k: usize) -> PathBuf {
-    out.join("events").join(format!("{k:04}.events"))
+impl MeshFormat {
+    fn frame_format(self) -> FrameFormat {
+        match self {
+            MeshFormat::Ply => FrameFormat::Ply,
+            MeshFormat::Obj => FrameFormat::Obj,
+        }
+    }
 }
 
 pub fn run(args: &TrackArgs) -> Result<(), CliError> {
-    let started = Instant::now();
     let sequence = discover_sequence(&args.input)?;
     for (from, to) in &sequence.gaps {
         eprintln!("warning: input frames {from}..={to} are missing; tracking across the gap");
@@ -222,172 +183,46 @@ pub fn run(args: &TrackArgs) -> Result<(), CliError> {
         input.truncate(n);
     }
     let backend = Backend::select(args.backend)?;
-    let options = args.params.options();
-    let state_path = args.out.join(STATE_FILE);
-
-    let (mut tracker, mut state) = if args.resume {
-        resume(args, &state_path, &input, &options)?
-    } else {
-        prepare_output_dir(&args.out, args.force)?;
-        let first = read_frame(&input[0])?.mesh;
-        if let Err(e) = first.validate() {
-            return Err(CliError::InvalidMesh {
-                path: input[0].clone(),
-                source: e,
-            });
-        }
-        let (tracker, events, log) = Tracker::start(&first, &backend, &options)?;
-        let mut state = State {
-            version: STATE_VERSION,
-            input: input.clone(),
-            format: args.format,
-            params: args.params.clone(),
-            edge_length: tracker.edge_length(),
-            completed: 0,
-            next_id: 0,
-            frames: Vec::new(),
-        };
-        let bar = progress_bar(input.len(), 0, true);
-        commit_frame(
-            &args.out, &tracker, &events, log, &mut state, &bar, args.quiet,
-        )?;
-        (tracker, state)
+    let output = Output {
+        layout: Layout::new(&args.out),
+        format: args.format.frame_format(),
+        params: &args.params,
+        start: if args.resume {
+            Start::Resume
+        } else {
+            Start::Fresh { force: args.force }
+        },
     };
-
-    let bar = progress_bar(input.len(), state.completed, args.quiet);
-    bar.set_draw_target(if args.quiet {
-        ProgressDrawTarget::hidden()
-    } else {
-        ProgressDrawTarget::stderr()
-    });
-    for (k, path) in input.iter().enumerate().skip(state.completed) {
-        bar.set_message(format!("frame {k}: reading"));
-        let target = read_frame(path)?.mesh;
-        if let Err(e) = target.validate() {
-            bar.println(format!(
-                "warning: {}: {e}; using it as a target anyway (only its voxelization and projection are used)",
-                path.display()
-            ));
-        }
-        bar.set_message(format!("frame {k}: tracking"));
-        let (events, log) = tracker.step(&backend, k, &target)?;
-        commit_frame(
-            &args.out, &tracker, &events, log, &mut state, &bar, args.quiet,
-        )?;
-        bar.inc(1);
-    }
+    let bar = progress_bar(input.len(), 0, args.quiet);
+    let report = track_sequence(
+        FrameSource::Files(&input),
+        &backend,
+        &args.params.options(),
+        Some(output),
+        |progress| match progress {
+            Progress::Tracking { k, done } => {
+                bar.set_position(done as u64);
+                bar.set_message(format!("frame {k}: tracking"));
+            }
+            Progress::Warning(message) => bar.println(message),
+            Progress::Frame { log, .. } => {
+                if !args.quiet {
+                    bar.suspend(|| println!("{}", log_line(log)));
+                }
+                bar.set_position(log.frame as u64 + 1);
+            }
+        },
+    )?;
     bar.finish_and_clear();
-
-    let summary = Summary {
-        frames: state.completed,
-        seconds: started.elapsed().as_secs_f64(),
-        backend: backend.to_string(),
-        edge_length: state.edge_length,
-        total_events: state
-            .frames
-            .iter()
-            .map(|f| {
-                let e = &f.events;
-                e.split_edge + e.split_face + e.collapse + e.patch_created + e.patch_deleted
-            })
-            .sum(),
-        topology_changes: state.frames.iter().filter(|f| f.topology_changed).count(),
-        max_residual: state
-            .frames
-            .iter()
-            .map(|f| f.residual_max)
-            .fold(0.0, f64::max),
-        per_frame: &state.frames,
-    };
-    let json = serde_json::to_vec_pretty(&summary)?;
-    atomic_write(&args.out.join("summary.json"), |w| w.write_all(&json))?;
     if !args.quiet {
         println!(
-            "tracked {} frames in {:.1} s on {} -> {} (summary.json)",
-            summary.frames,
-            summary.seconds,
-            summary.backend,
+            "tracked {} frames in {:.1} s on {} -> {} ({SUMMARY_FILE})",
+            report.frames.len(),
+            report.seconds,
+            backend,
             args.out.display()
         );
     }
-    Ok(())
-}
-
-/// Reloads the last complete frame and checks the run is the same one.
-fn resume(
-    args: &TrackArgs,
-    state_path: &Path,
-    input: &[PathBuf],
-    options: &TrackOptions,
-) -> Result<(Tracker, State), CliError> {
-    let bad = |message: String| CliError::Manifest {
-        path: state_path.to_path_buf(),
-        message,
-    };
-    let text = std::fs::read_to_string(state_path).map_err(|e| {
-        bad(format!(
-            "cannot resume: {e} (was the run started with -o {}?)",
-            args.out.display()
-        ))
-    })?;
-    let state: State =
-        serde_json::from_str(&text).map_err(|e| bad(format!("not a track state: {e}")))?;
-    if state.version != STATE_VERSION {
-        return Err(bad(format!(
-            "state version {} is not {STATE_VERSION}",
-            state.version
-        )));
-    }
-    if state.input != input || state.params != args.params || state.format != args.format {
-        return Err(bad(
-            "the input frames or parameters differ from the interrupted run's; resume with the same arguments".into(),
-        ));
-    }
-    if state.completed == 0 {
-        return Err(bad(
-            "no frame was completed; start the run again without --resume".into(),
-        ));
-    }
-    let last = frame_path(&args.out, state.completed - 1, state.format);
-    let mesh = read_frame(&last)?.mesh;
-    let tracker = Tracker::resume(&mesh, state.next_id, state.edge_length, options)?;
-    Ok((tracker, state))
-}
-
-/// Writes frame `state.completed` (mesh, then events), then advances `track.json`; each write is
-/// atomic, so a crash leaves either the old or the new state, never a torn one.
-fn commit_frame(
-    out: &Path,
-    tracker: &Tracker,
-    events: &surftrack::events::EventList,
-    log: FrameLog,
-    state: &mut State,
-    bar: &ProgressBar,
-    quiet: bool,
-) -> Result<(), CliError> {
-    let k = state.completed;
-    for dir in [out.join("frames"), out.join("events")] {
-        std::fs::create_dir_all(&dir).map_err(|source| CliError::Create {
-            path: dir.clone(),
-            source,
-        })?;
-    }
-    let mesh: IndexedMesh = tracker.mesh().to_indexed();
-    let path = frame_path(out, k, state.format);
-    match state.format {
-        MeshFormat::Ply => write_ply(&path, &mesh)?,
-        MeshFormat::Obj => write_obj(&path, &mesh, &ObjOptions::default())?,
-    }
-    let bytes = encode(events);
-    atomic_write(&events_path(out, k), |w| w.write_all(&bytes))?;
-    if !quiet {
-        bar.suspend(|| println!("{}", log_line(&log)));
-    }
-    state.frames.push(log);
-    state.completed = k + 1;
-    state.next_id = tracker.mesh().next_id();
-    let json = serde_json::to_vec_pretty(state)?;
-    atomic_write(&out.join(STATE_FILE), |w| w.write_all(&json))?;
     Ok(())
 }
 

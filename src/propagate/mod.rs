@@ -20,6 +20,7 @@ mod texture;
 mod tracked;
 mod transfer;
 
+pub use crate::sequence::{EVENTS_DIR, FRAMES_DIR, TRACK_FILE, frame_name};
 pub use carry::{Direction, carry};
 pub use checker::{Checker, DARK, LIGHT};
 pub use displace::{Displace, displace};
@@ -28,5 +29,5 @@ pub use projection::{Axis, Bounds, Projection};
 pub use run::{PropagateOptions, PropagateSummary, SUMMARY_FILE, propagate};
 pub use source::{Channel, Source, StartFrame, start_values};
 pub use texture::Texture;
-pub use tracked::{EVENTS_DIR, FRAMES_DIR, TRACK_FILE, TrackedSequence, frame_name};
+pub use tracked::TrackedSequence;
 pub use transfer::transfer;

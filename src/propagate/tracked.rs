@@ -6,14 +6,8 @@ use crate::events::EventList;
 use crate::events::file::decode;
 use crate::io::{ReadOptions, read_frame_with};
 use crate::mesh::IndexedMesh;
+use crate::sequence::{Layout, TRACK_FILE, frame_name, frame_number};
 use std::path::{Path, PathBuf};
-
-/// Sub-directory of the tracked meshes.
-pub const FRAMES_DIR: &str = "frames";
-/// Sub-directory of the event lists.
-pub const EVENTS_DIR: &str = "events";
-/// The run description `track` keeps up to date.
-pub const TRACK_FILE: &str = "track.json";
 
 /// A tracked sequence on disk: `frames/frame_NNNN.ply` with persistent ids and `events/NNNN.events`,
 /// the event list of the transition from frame `NNNN − 1` to frame `NNNN`.
@@ -31,7 +25,7 @@ impl TrackedSequence {
     /// (`completed`), frames beyond that (a run still going, or killed) are left out; its `input`
     /// list, when present, is kept for [`Self::input`].
     pub fn open(dir: &Path) -> Result<Self, PropagateError> {
-        let frames_dir = dir.join(FRAMES_DIR);
+        let frames_dir = Layout::new(dir).frames_dir();
         let entries = std::fs::read_dir(&frames_dir).map_err(|e| PropagateError::Unreadable {
             path: frames_dir.clone(),
             reason: e.to_string(),
@@ -85,7 +79,7 @@ impl TrackedSequence {
 
     /// The event list of the transition `frame − 1 → frame`.
     pub fn events_path(&self, frame: usize) -> PathBuf {
-        self.dir.join(EVENTS_DIR).join(format!("{frame:04}.events"))
+        Layout::new(&self.dir).events_path(frame)
     }
 
     /// Tracked frame `frame` exactly as written (no repair, which could renumber vertices), with its
@@ -130,20 +124,6 @@ impl TrackedSequence {
     }
 }
 
-/// `frame_0042.ply` → 42.
-fn frame_number(name: &str) -> Option<usize> {
-    let digits = name.strip_prefix("frame_")?.strip_suffix(".ply")?;
-    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
-        return None;
-    }
-    digits.parse().ok()
-}
-
-/// The file name of tracked frame `frame`.
-pub fn frame_name(frame: usize) -> String {
-    format!("frame_{frame:04}.ply")
-}
-
 /// `completed` and `input` from `track.json`, when the file exists.
 fn read_run_description(
     dir: &Path,
@@ -174,25 +154,4 @@ fn read_run_description(
             .collect()
     });
     Ok((completed, input))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn frame_names_round_trip_and_others_are_ignored() {
-        for k in [0, 7, 42, 9999, 12345] {
-            assert_eq!(frame_number(&frame_name(k)), Some(k));
-        }
-        for name in [
-            "frame_.ply",
-            "frame_12.obj",
-            "frame_1a.ply",
-            "x_0001.ply",
-            "frame_-1.ply",
-        ] {
-            assert_eq!(frame_number(name), None, "{name}");
-        }
-    }
 }

@@ -69,14 +69,7 @@ pub(super) fn decide(
                 .collect();
             let staying = graft::submesh(current, &stays);
             (
-                far_components(
-                    backend,
-                    bvh,
-                    current,
-                    our_labels,
-                    ours.len(),
-                    max_distance,
-                )?,
+                far_components(backend, bvh, current, our_labels, ours.len(), max_distance)?,
                 if staying.triangles.is_empty() {
                     theirs
                         .iter()

@@ -1,0 +1,121 @@
+//! The commands a new user types first, run as the binary: `demo`, `bench` on two frames, and
+//! `track --backend gpu` against `--backend cpu` (same frames and events, byte for byte).
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+
+fn surftrack() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_surftrack"))
+}
+
+fn run(command: &mut Command) -> String {
+    let out = command.stderr(Stdio::inherit()).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(out.status.success(), "{command:?} failed:\n{stdout}");
+    stdout
+}
+
+/// Every file below `dir` with its bytes, by path relative to `dir`, sorted.
+fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        out.push((name, std::fs::read(&path).unwrap()));
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn demo_runs_and_writes_its_outputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("demo");
+    let stdout = run(surftrack()
+        .args(["demo", "--resolution", "24", "--frames", "5", "-o"])
+        .arg(&out));
+    assert!(stdout.contains("surftrack track"), "{stdout}");
+    let tracked: Vec<_> = walk(&out)
+        .into_iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "events"))
+        .collect();
+    assert!(!tracked.is_empty(), "the demo wrote no event lists");
+}
+
+fn walk(dir: &Path) -> Vec<std::path::PathBuf> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            out.extend(walk(&path));
+        } else {
+            out.push(path);
+        }
+    }
+    out
+}
+
+#[test]
+fn bench_times_two_frames_of_a_given_sequence() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in");
+    run(surftrack()
+        .args([
+            "synth",
+            "blobs",
+            "--resolution",
+            "24",
+            "--frames",
+            "3",
+            "-o",
+        ])
+        .arg(&input));
+    let stdout = run(surftrack()
+        .args(["bench", "--frames", "2", "--input"])
+        .arg(&input));
+    let row = stdout
+        .lines()
+        .find(|l| l.contains("cpu"))
+        .unwrap_or_else(|| panic!("no CPU row in:\n{stdout}"));
+    let total = row
+        .split_whitespace()
+        .last()
+        .and_then(|t| t.strip_suffix("ms"))
+        .and_then(|t| t.parse::<f64>().ok());
+    assert!(total.is_some_and(|t| t > 0.0), "{row}");
+}
+
+#[test]
+fn track_on_the_gpu_writes_what_the_cpu_writes() {
+    surftrack::compute::parity::run_on_gpu(|_| {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("in");
+        run(surftrack()
+            .args([
+                "synth",
+                "merge",
+                "--resolution",
+                "28",
+                "--frames",
+                "4",
+                "-o",
+            ])
+            .arg(&input));
+        let out = |backend: &str| {
+            let out = dir.path().join(backend);
+            run(surftrack()
+                .arg("track")
+                .arg(&input)
+                .args(["--quiet", "--backend", backend, "-o"])
+                .arg(&out));
+            out
+        };
+        let (cpu, gpu) = (out("cpu"), out("gpu"));
+        for sub in ["frames", "events"] {
+            assert!(
+                files(&cpu.join(sub)) == files(&gpu.join(sub)),
+                "{sub}/ differs between the backends"
+            );
+        }
+    });
+}
