@@ -23,9 +23,9 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
-use super::RegisterError;
 use super::flush::flushing_subnormals;
 use super::pattern::Pattern;
+use super::{FactorizationError, RegisterError};
 
 /// Which factor the last successful factorization produced.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -51,8 +51,8 @@ pub struct Cholesky {
     factored: Option<Precision>,
 }
 
-fn out_of_memory(what: &str) -> RegisterError {
-    RegisterError::Factorization(format!("out of memory allocating {what}"))
+fn out_of_memory(what: &'static str) -> RegisterError {
+    FactorizationError::OutOfMemory { what }.into()
 }
 
 impl Cholesky {
@@ -69,7 +69,10 @@ impl Cholesky {
             SymmetricOrdering::Custom(perm),
             CholeskySymbolicParams::default(),
         )
-        .map_err(|e| RegisterError::Factorization(format!("symbolic analysis: {e:?}")))?;
+        .map_err(|e| FactorizationError::Symbolic {
+            unknowns: n,
+            reason: format!("{e:?}"),
+        })?;
         Self::with_symbolic(Arc::new(symbolic), n, pattern.row_idx.len(), par)
     }
 
@@ -183,9 +186,7 @@ impl Cholesky {
         let precision = match self.factored {
             Some(precision) if n == self.symbolic.nrows() => precision,
             _ => {
-                return Err(RegisterError::Factorization(
-                    "solve without a matching factorization".into(),
-                ));
+                return Err(FactorizationError::NotFactored { dimension: n }.into());
             }
         };
         let stack = MemStack::new(&mut self.solve_scratch);

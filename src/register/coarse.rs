@@ -19,7 +19,6 @@ use faer::Par;
 use faer::linalg::cholesky::llt::factor::LltError;
 use glam::{DVec3, Vec3};
 
-use super::RegisterError;
 use super::assemble::{assemble, damp, damp_in_place};
 use super::cholesky::Cholesky;
 use super::correspond::{Correspond, Projector, targets};
@@ -34,6 +33,7 @@ use super::pcg::pcg;
 use super::report::{CoarseReport, IterationReport, StageReport, StepTimes};
 use super::rigid::{Rigid, node_unknowns, prealign};
 use super::surface::Surface;
+use super::{FactorizationError, RegisterError};
 use crate::compute::Backend;
 use crate::mesh::IndexedMesh;
 use crate::project::Bvh;
@@ -296,11 +296,15 @@ impl<'a> CoarseSolver<'a> {
                     self.stale = false;
                     return Ok(());
                 }
-                Err(LltError::NonPositivePivot { .. }) => {
+                Err(LltError::NonPositivePivot { index }) => {
+                    let lambda = self.lambda;
                     if !self.raise() {
-                        return Err(RegisterError::Factorization(format!(
-                            "no positive definite system after {MAX_RETRIES} damping increases"
-                        )));
+                        return Err(FactorizationError::NotPositiveDefinite {
+                            retries: MAX_RETRIES,
+                            pivot: index,
+                            lambda,
+                        }
+                        .into());
                     }
                 }
             }

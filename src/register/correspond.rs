@@ -74,7 +74,7 @@ impl Correspond for Projector<'_> {
             max_distance,
         };
         let found = project(self.backend, self.bvh, points, normals, &options)
-            .map_err(|e| RegisterError::Correspondence(e.to_string()))?;
+            .map_err(RegisterError::Correspondence)?;
         Ok(found
             .iter()
             .map(|c| (c.status() == Status::Accepted).then_some((c.point, c.normal)))
@@ -91,7 +91,7 @@ impl Correspond for Projector<'_> {
         min_distance: f32,
         max_distance: f32,
     ) -> Result<CoverPairs, RegisterError> {
-        let failed = |e: crate::project::ProjectError| RegisterError::Correspondence(e.to_string());
+        let failed = RegisterError::Correspondence;
         let tree = Bvh::build(source).map_err(failed)?;
         let (points, normals): (Vec<Vec3>, Vec<Vec3>) = self
             .bvh

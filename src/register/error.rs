@@ -1,6 +1,7 @@
 use thiserror::Error;
 
 use crate::mesh::MeshError;
+use crate::project::ProjectError;
 
 /// Why a registration could not run or could not finish.
 ///
@@ -23,7 +24,32 @@ pub enum RegisterError {
         source: MeshError,
     },
     #[error("correspondence search failed: {0}")]
-    Correspondence(String),
+    Correspondence(#[source] ProjectError),
     #[error("sparse factorization failed: {0}")]
-    Factorization(String),
+    Factorization(#[from] FactorizationError),
+}
+
+/// A failure of the coarse stage's sparse Cholesky solver (after faer's `LltError`): which step
+/// failed and with what, so a caller can act on it — coarsen the graph, raise the damping, free
+/// memory — instead of reading a message.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum FactorizationError {
+    #[error("{nonzeros} nonzeros exceed the 32-bit index range; use a coarser graph")]
+    TooManyNonzeros { nonzeros: usize },
+    #[error("out of memory allocating the {what}")]
+    OutOfMemory { what: &'static str },
+    #[error("fill-reducing ordering of {unknowns} unknowns failed: {reason}")]
+    Ordering { unknowns: usize, reason: String },
+    #[error("symbolic analysis of {unknowns} unknowns failed: {reason}")]
+    Symbolic { unknowns: usize, reason: String },
+    #[error(
+        "no positive definite system after {retries} damping increases (last: pivot {pivot} not positive at λ = {lambda:e})"
+    )]
+    NotPositiveDefinite {
+        retries: usize,
+        pivot: usize,
+        lambda: f64,
+    },
+    #[error("a solve of dimension {dimension} without a matching factorization")]
+    NotFactored { dimension: usize },
 }

@@ -37,7 +37,7 @@ use glam::Vec3;
 
 pub use coarse::CoarseSolver;
 use coarse::{Setup, rigid_start};
-pub use error::RegisterError;
+pub use error::{FactorizationError, RegisterError};
 pub use graph::{DeformationGraph, GraphOptions};
 pub use options::{CoarseOptions, FineOptions, LinearSolver, RegisterOptions};
 pub use report::{
@@ -107,7 +107,7 @@ pub fn register(
                 which: "target",
                 source,
             },
-            other => RegisterError::Correspondence(other.to_string()),
+            other => RegisterError::Correspondence(other),
         })?;
         let bvh_time = t.elapsed();
         check_scale(&bvh)?;

@@ -5,9 +5,9 @@
 
 use rayon::prelude::*;
 
-use super::RegisterError;
 use super::energy::smooth_psi;
 use super::model::{Model, NODE_DOFS};
+use super::{FactorizationError, RegisterError};
 
 /// One fit contribution to a block: vertex `v` whose skinning entries `si` (row node) and `sj`
 /// (column node) name the block's two nodes.
@@ -198,9 +198,7 @@ impl Pattern {
             }
         }
         if nnz > u32::MAX as usize / 2 {
-            return Err(RegisterError::Factorization(format!(
-                "{nnz} nonzeros exceed the 32-bit index range; use a coarser graph"
-            )));
+            return Err(FactorizationError::TooManyNonzeros { nonzeros: nnz }.into());
         }
         let mut row_idx = vec![0u32; nnz];
         let block_col_ptr = &self.block_col_ptr;
@@ -249,7 +247,9 @@ impl Pattern {
             n,
             self.block_rows.len(),
         ))
-        .map_err(|_| RegisterError::Factorization("out of memory ordering the graph".into()))?;
+        .map_err(|_| FactorizationError::OutOfMemory {
+            what: "graph ordering workspace",
+        })?;
         amd::order(
             &mut fwd,
             &mut inv,
@@ -257,7 +257,10 @@ impl Pattern {
             amd::Control::default(),
             faer::dyn_stack::MemStack::new(&mut mem),
         )
-        .map_err(|e| RegisterError::Factorization(format!("ordering: {e:?}")))?;
+        .map_err(|e| FactorizationError::Ordering {
+            unknowns: n,
+            reason: format!("{e:?}"),
+        })?;
         let expand = |perm: &[u32]| -> Vec<u32> {
             perm.iter()
                 .flat_map(|&b| (0..NODE_DOFS as u32).map(move |t| NODE_DOFS as u32 * b + t))

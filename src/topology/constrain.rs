@@ -28,7 +28,7 @@ use super::mesh_grid::MeshGrid;
 use super::points::Point;
 use super::record::record;
 use super::region::{Checks, grow};
-use super::{Resampling, TopologyError, TopologyOptions, TopologyReport};
+use super::{Abandoned, Resampling, TopologyError, TopologyOptions, TopologyReport};
 use crate::mesh::{IndexedMesh, Mesh, MeshError, Replacement};
 
 /// Constrains the topology of `mesh` to that of Θ's isosurface (paper §4.3): where the two differ
@@ -89,9 +89,7 @@ fn resample(
                 report.total = start.elapsed();
                 return Ok((report, None));
             }
-            report.abandoned.push(String::from(
-                "topology differs from Θ's with no deep difference",
-            ));
+            report.abandoned.push(Abandoned::NoDeepDifference);
             continue;
         }
         let clock = Instant::now();
@@ -103,10 +101,11 @@ fn resample(
         report.rebuild += clock.elapsed();
         match outcome {
             Err(points) => {
-                report
-                    .abandoned
-                    .push(format!("could not cut or fill near {:?}", points.first()));
-                extra.extend(points.iter().flat_map(|p| point_cells(&grid, p)));
+                let cells: Vec<Cell> = points.iter().flat_map(|p| point_cells(&grid, p)).collect();
+                report.abandoned.push(Abandoned::CutOrFill {
+                    cells: cells.clone(),
+                });
+                extra.extend(cells);
             }
             Ok((built, recorded, verdict)) => match verdict {
                 Ok(surface) => {
@@ -118,25 +117,17 @@ fn resample(
                     report.total = start.elapsed();
                     return Ok((report, Some(replacement)));
                 }
-                Err(Failure::Topology) => {
-                    report
-                        .abandoned
-                        .push(String::from("topology differs from Θ's after re-sampling"));
-                }
+                Err(Failure::Topology) => report.abandoned.push(Abandoned::Topology),
                 Err(Failure::Element(vertices)) => {
-                    report.abandoned.push(format!(
-                        "invalid element at {:?}",
-                        vertices
-                            .iter()
-                            .filter_map(|&v| built.points.get(v as usize))
-                            .collect::<Vec<_>>()
-                    ));
-                    extra.extend(
-                        vertices
-                            .iter()
-                            .filter_map(|&v| built.points.get(v as usize))
-                            .flat_map(|p| point_cells(&grid, p)),
-                    );
+                    let cells: Vec<Cell> = vertices
+                        .iter()
+                        .filter_map(|&v| built.points.get(v as usize))
+                        .flat_map(|p| point_cells(&grid, p))
+                        .collect();
+                    report.abandoned.push(Abandoned::InvalidElement {
+                        cells: cells.clone(),
+                    });
+                    extra.extend(cells);
                 }
             },
         }
@@ -308,8 +299,7 @@ fn replace_whole(
     let recorded = record(grid, &built, &Default::default(), mesh.next_id());
     let surface =
         verify(&built.mesh, &recorded, target).map_err(|_| TopologyError::Unresolved {
-            attempts: report.abandoned.len() + 1,
-            reason: report.abandoned.join("; "),
+            abandoned: report.abandoned.clone(),
         })?;
     report.resampling = Resampling::Whole;
     let replacement = summarize(surface, recorded, report);

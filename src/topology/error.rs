@@ -1,5 +1,6 @@
 use thiserror::Error;
 
+use super::Abandoned;
 use crate::grid::RasterError;
 use crate::mesh::MeshError;
 use crate::project::ProjectError;
@@ -20,6 +21,10 @@ pub enum TopologyError {
     Project(#[from] ProjectError),
     #[error("a sampled field of {dims:?} corners is too large")]
     FieldTooLarge { dims: [usize; 3] },
-    #[error("no valid surface after {attempts} attempts: {reason}")]
-    Unresolved { attempts: usize, reason: String },
+    #[error(
+        "no valid surface after {} attempts: {}",
+        abandoned.len() + 1,
+        abandoned.iter().map(ToString::to_string).collect::<Vec<_>>().join("; ")
+    )]
+    Unresolved { abandoned: Vec<Abandoned> },
 }

@@ -44,4 +44,4 @@ pub use distance::PHI_HALF_WIDTH;
 pub use error::TopologyError;
 pub use field::Field;
 pub use options::TopologyOptions;
-pub use report::{Resampling, TopologyReport};
+pub use report::{Abandoned, Resampling, TopologyReport};

@@ -35,7 +35,7 @@ pub struct TopologyReport {
     /// Euler characteristic of each component of the result, sorted (equal to Θ's isosurface).
     pub euler: Vec<i64>,
     /// Why each earlier attempt was abandoned, in order.
-    pub abandoned: Vec<String>,
+    pub abandoned: Vec<Abandoned>,
     /// Time spent classifying and growing the region (over all attempts); cutting, filling,
     /// assembling, recording and verifying (over all attempts); and in the whole call.
     pub classify: Duration,
@@ -56,6 +56,37 @@ impl TopologyReport {
             0.0
         } else {
             self.deleted as f64 / input as f64
+        }
+    }
+}
+
+/// Why one local attempt of `constrain_topology` was abandoned; the next attempt is stricter
+/// (a topology failure) or takes in the cells named (a local failure).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Abandoned {
+    /// The topology differs from Θ's, but no cell differs deeply enough to re-sample.
+    NoDeepDifference,
+    /// A triangle could not be cut, or a cell's fill triangulated, in these cells.
+    CutOrFill { cells: Vec<[i32; 3]> },
+    /// The re-sampled surface is valid but has a topology other than Θ's.
+    Topology,
+    /// The re-sampled surface is not closed, manifold or non-degenerate in these cells.
+    InvalidElement { cells: Vec<[i32; 3]> },
+}
+
+impl std::fmt::Display for Abandoned {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Abandoned::NoDeepDifference => {
+                write!(f, "topology differs from Θ's with no deep difference")
+            }
+            Abandoned::CutOrFill { cells } => {
+                write!(f, "could not cut or fill in cells {cells:?}")
+            }
+            Abandoned::Topology => write!(f, "topology differs from Θ's after re-sampling"),
+            Abandoned::InvalidElement { cells } => {
+                write!(f, "invalid element in cells {cells:?}")
+            }
         }
     }
 }
