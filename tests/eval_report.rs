@@ -326,3 +326,81 @@ fn the_command_prints_a_table_and_writes_json() {
     );
     assert!(String::from_utf8_lossy(&out.stderr).contains("3 of 3 tracked frames fail"));
 }
+
+#[test]
+fn the_pure_share_counts_the_colours_still_on_the_checker() {
+    let mut mesh = grid_box(2);
+    let n = mesh.positions.len();
+    let (light, dark) = (surftrack::propagate::LIGHT, surftrack::propagate::DARK);
+    let mut values = Vec::with_capacity(3 * n);
+    for v in 0..n {
+        let colour = match v % 4 {
+            0 | 1 => light,
+            2 => dark,
+            // Halfway between the two: a smear.
+            _ => [0, 1, 2].map(|c| 0.5 * (light[c] + dark[c])),
+        };
+        values.extend(colour);
+    }
+    mesh.attributes.push(surftrack::mesh::Attribute {
+        name: "color".into(),
+        components: 3,
+        values,
+    });
+    let expected = (0..n).filter(|v| v % 4 != 3).count() as f64 / n as f64;
+    assert_eq!(surftrack::eval::pure_share(&mesh), Some(expected));
+    mesh.attributes.clear();
+    assert_eq!(surftrack::eval::pure_share(&mesh), None);
+}
+
+#[test]
+fn eval_measures_a_propagated_checker_per_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let frames = write_sequence(dir.path(), 3, Ops::All, 30, 1);
+    let input = dir.path().join("in");
+    write_input(&input, &frames);
+    let tracked = dir.path().to_str().unwrap();
+    let carried = dir.path().join("carried");
+    let out = surftrack(&[
+        "propagate",
+        tracked,
+        "--forward",
+        "--checker",
+        "-o",
+        carried.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = surftrack(&[
+        "eval",
+        tracked,
+        "--input",
+        input.to_str().unwrap(),
+        "--checker",
+        carried.to_str().unwrap(),
+        "--json",
+        "-",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let pure: Vec<f64> = json["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["checker_pure"].as_f64().unwrap())
+        .collect();
+    assert_eq!(pure.len(), 3);
+    assert_eq!(pure[0], 1.0, "the start frame is coloured exactly");
+    assert!(pure.iter().all(|p| (0.0..=1.0).contains(p)), "{pure:?}");
+    assert_eq!(
+        json["summary"]["final_checker_pure"].as_f64(),
+        Some(pure[2])
+    );
+}

@@ -26,6 +26,10 @@ pub struct EvalArgs {
     /// Largest Hausdorff distance to the input, in its mean edge lengths, a frame may have.
     #[arg(long, default_value_t = EvalOptions::default().max_hausdorff)]
     max_hausdorff: f32,
+    /// A folder written by `propagate --checker` for this run: report, per frame, the share of
+    /// vertices whose carried colour is still one of the checker's two (within 10% of its range).
+    #[arg(long, value_name = "DIR")]
+    checker: Option<PathBuf>,
     /// Exit non-zero when any frame fails: not a closed manifold, topology unlike the input's,
     /// Hausdorff above --max-hausdorff, or under 99% of triangles above --min-angle.
     #[arg(long)]
@@ -38,6 +42,7 @@ pub fn run(args: &EvalArgs) -> Result<(), CliError> {
         backend: Backend::select(args.backend)?,
         angle_threshold: args.min_angle,
         max_hausdorff: args.max_hausdorff,
+        checker: args.checker.clone(),
         ..EvalOptions::default()
     };
     let report = evaluate(&args.tracked, &options)?;

@@ -231,9 +231,12 @@ fn log_line(log: &FrameLog) -> String {
     let t = &log.times;
     let r = &log.reconciled;
     format!(
-        "frame {:4}: {:7} verts | split {} face {} collapse {} patch +{} -{} | components +{} -{} replaced {} grafted {} | residual {:.3} L (max {:.2}){} | register {:.0} improve {:.0} topology {:.0}+{:.0} reconcile {:.0} total {:.0} ms",
+        "frame {:4}: {:7} verts{} | split {} face {} collapse {} patch +{} -{} | components +{} -{} replaced {} grafted {} | lost: improve {} topology {}+{} sub-grid {} | residual {:.3} L (max {:.2}){} | register {:.0} improve {:.0} topology {:.0}+{:.0} reconcile {:.0} total {:.0} ms",
         log.frame,
         log.vertices,
+        log.carried
+            .map(|c| format!(" ({:.1}% carried over)", 100.0 * c))
+            .unwrap_or_default(),
         e.split_edge,
         e.split_face,
         e.collapse,
@@ -243,6 +246,10 @@ fn log_line(log: &FrameLog) -> String {
         r.deleted,
         r.replaced,
         r.grafted,
+        log.churn.improve.lost,
+        log.churn.topology_self.lost,
+        log.churn.topology_target.lost,
+        log.churn.subgrid.lost,
         log.residual_mean,
         log.residual_max,
         if log.registration_converged {

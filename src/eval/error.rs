@@ -17,6 +17,8 @@ pub enum EvalError {
     TooFewInputFrames { tracked: usize, input: usize },
     #[error("{}: cannot measure distances: {source}", path.display())]
     Distance { path: PathBuf, source: ProjectError },
+    #[error("{}: no 3-component `color` channel to measure a checker on", path.display())]
+    NoColour { path: PathBuf },
     #[error("cannot write the JSON report: {0}")]
     Json(#[from] serde_json::Error),
 }

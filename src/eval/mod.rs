@@ -5,6 +5,7 @@
 //! fraction of vertices carried over from the previous frame), and, when a synth manifest gives the
 //! rigid motion, the drift of tracked material points from their true positions (paper §6, Fig. 10).
 
+mod checker;
 mod distance;
 mod drift;
 mod error;
@@ -12,11 +13,12 @@ mod quality;
 mod report;
 mod run;
 
+pub use checker::{PURE_TOLERANCE, pure_share};
 pub use distance::{
     SurfaceDistances, labelled_surface_samples, surface_distances, surface_samples,
 };
 pub use drift::{Drift, MaterialPoints};
 pub use error::EvalError;
 pub use quality::{ANGLE_BUCKETS, ASPECT_BUCKETS, TriangleQuality, triangle_quality};
-pub use report::{EvalReport, FrameReport, Summary};
+pub use report::{EvalReport, FrameReport, LostTotals, Summary};
 pub use run::{EvalOptions, evaluate};

@@ -4,6 +4,7 @@ use super::EvalOptions;
 use super::distance::SurfaceDistances;
 use super::drift::Drift;
 use super::quality::{ANGLE_BUCKETS, ASPECT_BUCKETS, TriangleQuality};
+use crate::track::StageChurn;
 use serde::Serialize;
 use std::fmt::Write;
 use std::path::PathBuf;
@@ -34,6 +35,10 @@ pub struct FrameReport {
     pub quality: TriangleQuality,
     /// Fraction of this frame's vertices present (same id) in the previous frame; none for frame 0.
     pub coherence: Option<f64>,
+    /// Where the previous frame's vertices were lost, by stage, as the tracker recorded it.
+    pub lost: Option<StageChurn>,
+    /// Share of the vertices whose carried checker colour is still pure (see `pure_share`).
+    pub checker_pure: Option<f64>,
     /// Drift of the frame-0 material points from the ground truth, when a synth manifest gives it.
     pub drift: Option<Drift>,
 }
@@ -77,11 +82,39 @@ pub struct Summary {
     /// Mean coherence over frames 1…n−1.
     pub mean_coherence: Option<f64>,
     pub min_coherence: Option<f64>,
+    /// Vertices lost over the run by stage (frames whose run recorded it).
+    pub lost: Option<LostTotals>,
+    /// The carried checker's pure share in the last frame, and its lowest over the frames.
+    pub final_checker_pure: Option<f64>,
+    pub min_checker_pure: Option<f64>,
     /// Drift in the last frame, and the largest mean drift of any frame.
     pub final_drift: Option<Drift>,
     pub max_mean_drift_percent: Option<f32>,
     /// Frames failing `FrameReport::passes` with the report's bars.
     pub failing_frames: Vec<usize>,
+}
+
+/// Vertices of a previous frame lost over the run, by the stage that removed them.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct LostTotals {
+    pub improve: usize,
+    pub topology_self: usize,
+    pub topology_target: usize,
+    pub subgrid: usize,
+}
+
+impl LostTotals {
+    fn of(frames: &[FrameReport]) -> Option<Self> {
+        let mut totals: Option<Self> = None;
+        for c in frames.iter().filter_map(|f| f.lost) {
+            let t = totals.get_or_insert_with(Self::default);
+            t.improve += c.improve.lost;
+            t.topology_self += c.topology_self.lost;
+            t.topology_target += c.topology_target.lost;
+            t.subgrid += c.subgrid.lost;
+        }
+        totals
+    }
 }
 
 /// The whole evaluation, as written to JSON.
@@ -124,6 +157,12 @@ impl Summary {
                 .fold(1.0, f64::min),
             mean_coherence: mean(coherence.iter().copied()),
             min_coherence: coherence.iter().copied().reduce(f64::min),
+            lost: LostTotals::of(frames),
+            final_checker_pure: frames.last().and_then(|f| f.checker_pure),
+            min_checker_pure: frames
+                .iter()
+                .filter_map(|f| f.checker_pure)
+                .reduce(f64::min),
             final_drift: frames.last().and_then(|f| f.drift),
             max_mean_drift_percent: drifts.iter().map(|d| d.mean_percent).reduce(f32::max),
             failing_frames: frames
@@ -198,7 +237,7 @@ impl EvalReport {
         let threshold = format!("≥{}°%", self.angle_threshold);
         let _ = writeln!(
             s,
-            "{:>5} {:>8} {:>8} {:>7} {:>7} {:>7} {:>9} {:>7} {:>7} {:>7} {:>7} {:>14}  status",
+            "{:>5} {:>8} {:>8} {:>7} {:>7} {:>7} {:>9} {:>7} {:>7} {:>7} {:>7} {:>23} {:>7} {:>14}  status",
             "frame",
             "verts",
             "Δ",
@@ -210,6 +249,8 @@ impl EvalReport {
             threshold,
             "aspect",
             "coher%",
+            "lost imp/topo M+T/sub",
+            "pure%",
             "drift% mean/max"
         );
         for f in &self.frames {
@@ -217,9 +258,15 @@ impl EvalReport {
             let drift = f.drift.map_or("-".to_string(), |d| {
                 format!("{:.3}/{:.3}", d.mean_percent, d.max_percent)
             });
+            let lost = f.lost.map_or("-".to_string(), |c| {
+                format!(
+                    "{}/{}+{}/{}",
+                    c.improve.lost, c.topology_self.lost, c.topology_target.lost, c.subgrid.lost
+                )
+            });
             let _ = writeln!(
                 s,
-                "{:>5} {:>8} {:>8.4} {:>7.3} {:>7.3} {:>7} {:>9} {:>7.2} {:>7.2} {:>7.2} {:>7} {:>14}  {status}",
+                "{:>5} {:>8} {:>8.4} {:>7.3} {:>7.3} {:>7} {:>9} {:>7.2} {:>7.2} {:>7.2} {:>7} {:>23} {:>7} {:>14}  {status}",
                 f.frame,
                 f.vertices,
                 f.delta,
@@ -231,6 +278,8 @@ impl EvalReport {
                 100.0 * f.quality.above_threshold,
                 f.quality.max_aspect,
                 pct(f.coherence),
+                lost,
+                pct(f.checker_pure),
                 drift
             );
         }
@@ -253,6 +302,22 @@ impl EvalReport {
                 "coherence: {:.2}% of vertices carried over per frame on average (lowest {:.2}%)",
                 100.0 * mean,
                 100.0 * min
+            );
+        }
+        if let (Some(last), Some(min)) = (m.final_checker_pure, m.min_checker_pure) {
+            let _ = writeln!(
+                s,
+                "carried checker: {:.2}% of vertices pure at the last frame (lowest {:.2}%)",
+                100.0 * last,
+                100.0 * min
+            );
+        }
+        if let Some(l) = m.lost {
+            let _ = writeln!(
+                s,
+                "vertices lost to re-sampling over the run: improvement {}, topology on Φ(M) {}, \
+                 on Φ(T) {}, sub-grid match {}",
+                l.improve, l.topology_self, l.topology_target, l.subgrid
             );
         }
         if let (Some(last), Some(worst)) = (m.final_drift, m.max_mean_drift_percent) {

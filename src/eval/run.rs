@@ -1,14 +1,15 @@
 //! `eval`: every tracked frame against its input frame, one frame at a time.
 
 use super::EvalError;
+use super::checker::pure_share;
 use super::distance::surface_distances;
 use super::drift::MaterialPoints;
 use super::quality::triangle_quality;
 use super::report::{EvalReport, FrameReport};
 use crate::compute::Backend;
-use crate::io::{discover_sequence, read_frame};
+use crate::io::{ReadOptions, discover_sequence, read_frame, read_frame_with};
 use crate::mesh::IndexedMesh;
-use crate::propagate::TrackedSequence;
+use crate::propagate::{TrackedSequence, frame_name};
 use crate::synth::{MANIFEST_FILE, Manifest, RigidTransform};
 use std::path::{Path, PathBuf};
 
@@ -24,6 +25,9 @@ pub struct EvalOptions {
     pub max_hausdorff: f32,
     /// Smallest fraction of good triangles a frame may have.
     pub min_good_triangles: f64,
+    /// A folder `propagate --checker` wrote for this run: each frame's checker pure share is
+    /// measured on its `frame_NNNN.ply`.
+    pub checker: Option<PathBuf>,
 }
 
 impl Default for EvalOptions {
@@ -34,6 +38,7 @@ impl Default for EvalOptions {
             angle_threshold: 10.0,
             max_hausdorff: 1.0,
             min_good_triangles: 0.99,
+            checker: None,
         }
     }
 }
@@ -77,8 +82,21 @@ pub fn evaluate(tracked: &Path, options: &EvalOptions) -> Result<EvalReport, Eva
                 .filter(|id| previous_ids.binary_search(id).is_ok())
                 .count();
             report.coherence = Some(carried as f64 / ids.len().max(1) as f64);
+            report.lost = sequence.churn(frame);
         }
         previous_ids = ids;
+        if let Some(dir) = &options.checker {
+            let path = dir.join(frame_name(frame));
+            let carried = read_frame_with(
+                &path,
+                &ReadOptions {
+                    repair: false,
+                    ..ReadOptions::default()
+                },
+            )?
+            .mesh;
+            report.checker_pure = Some(pure_share(&carried).ok_or(EvalError::NoColour { path })?);
+        }
         if let Some(Some(transform)) = truth.as_ref().map(|t| t[frame]) {
             if frame == 0 {
                 material = MaterialPoints::new(&mesh, transform);
@@ -123,6 +141,8 @@ fn measure(
         input_euler: input_topology.euler(),
         quality: triangle_quality(mesh, options.angle_threshold),
         coherence: None,
+        lost: None,
+        checker_pure: None,
         drift: None,
     };
     let distances =

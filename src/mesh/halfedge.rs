@@ -300,6 +300,19 @@ impl Mesh {
             .unwrap_or_default()
     }
 
+    /// How many records the journal holds: a mark for [`Mesh::journal_since`].
+    pub fn journal_len(&self) -> usize {
+        self.journal.as_ref().map_or(0, Vec::len)
+    }
+
+    /// The records journaled since `mark` (empty when recording is off).
+    pub fn journal_since(&self, mark: usize) -> &[super::Mutation] {
+        self.journal
+            .as_deref()
+            .and_then(|j| j.get(mark..))
+            .unwrap_or_default()
+    }
+
     /// Raises the id counter to at least `next`, so ids handed out before a restart (and since
     /// destroyed) are never reused after it.
     pub fn reserve_ids_below(&mut self, next: u64) {

@@ -7,6 +7,7 @@ use crate::events::file::decode;
 use crate::io::{ReadOptions, read_frame_with};
 use crate::mesh::IndexedMesh;
 use crate::sequence::{Layout, TRACK_FILE, frame_name, frame_number};
+use crate::track::StageChurn;
 use std::path::{Path, PathBuf};
 
 /// A tracked sequence on disk: `frames/frame_NNNN.ply` with persistent ids and `events/NNNN.events`,
@@ -16,6 +17,7 @@ pub struct TrackedSequence {
     dir: PathBuf,
     frames: Vec<PathBuf>,
     input: Option<Vec<PathBuf>>,
+    churn: Vec<Option<StageChurn>>,
 }
 
 impl TrackedSequence {
@@ -42,7 +44,7 @@ impl TrackedSequence {
                 missing: missing.0,
             });
         }
-        let (completed, input) = read_run_description(dir)?;
+        let (completed, input, churn) = read_run_description(dir)?;
         let count = completed.map_or(numbered.len(), |c| c.min(numbered.len()));
         if count == 0 {
             return Err(PropagateError::NoFrames {
@@ -53,6 +55,7 @@ impl TrackedSequence {
             dir: dir.to_path_buf(),
             frames: (0..count).map(|k| frames_dir.join(frame_name(k))).collect(),
             input,
+            churn,
         })
     }
 
@@ -71,6 +74,12 @@ impl TrackedSequence {
     /// The input frames `track.json` lists, one per tracked frame, when it lists them.
     pub fn input(&self) -> Option<&[PathBuf]> {
         self.input.as_deref()
+    }
+
+    /// What each stage of the tracker created and removed in frame `frame`, as `track.json`
+    /// records it (absent for runs recorded before it did).
+    pub fn churn(&self, frame: usize) -> Option<StageChurn> {
+        self.churn.get(frame).copied().flatten()
     }
 
     pub fn frame_path(&self, frame: usize) -> &Path {
@@ -124,14 +133,15 @@ impl TrackedSequence {
     }
 }
 
-/// `completed` and `input` from `track.json`, when the file exists.
-fn read_run_description(
-    dir: &Path,
-) -> Result<(Option<usize>, Option<Vec<PathBuf>>), PropagateError> {
+/// What `track.json` holds, when it exists.
+type RunDescription = (Option<usize>, Option<Vec<PathBuf>>, Vec<Option<StageChurn>>);
+
+/// `completed`, `input` and each frame's churn from `track.json`, when the file exists.
+fn read_run_description(dir: &Path) -> Result<RunDescription, PropagateError> {
     let path = dir.join(TRACK_FILE);
     let text = match std::fs::read_to_string(&path) {
         Ok(text) => text,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok((None, None)),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok((None, None, Vec::new())),
         Err(e) => {
             return Err(PropagateError::Unreadable {
                 path,
@@ -153,5 +163,18 @@ fn read_run_description(
             .filter_map(|p| p.as_str().map(PathBuf::from))
             .collect()
     });
-    Ok((completed, input))
+    let churn = json
+        .get("frames")
+        .and_then(|v| v.as_array())
+        .map(|frames| {
+            frames
+                .iter()
+                .map(|f| {
+                    f.get("churn")
+                        .and_then(|c| serde_json::from_value(c.clone()).ok())
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    Ok((completed, input, churn))
 }

@@ -43,6 +43,7 @@ use crate::mesh::{IndexedMesh, Mesh, MeshError};
 use crate::project::{Bvh, ProjectError};
 use matching::Components;
 use serde::{Deserialize, Serialize};
+use std::ops::Range;
 use std::time::{Duration, Instant};
 use thiserror::Error;
 
@@ -157,11 +158,13 @@ pub fn match_below_grid(
     Ok(plan.counts)
 }
 
-/// What the sub-grid match of one frame did, and how long its improvement passes took.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+/// What the sub-grid match of one frame did, how long its improvement passes took, and where in
+/// the mesh's journal their records lie (the rest of what it journaled is the match's own).
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct SubgridReport {
     pub counts: SubgridCounts,
     pub improve: Duration,
+    pub improve_records: Vec<Range<usize>>,
 }
 
 /// The sub-grid match of one frame (Algorithm 1 after line 10), with the improvement that follows
@@ -180,9 +183,10 @@ pub fn match_and_improve(
 ) -> Result<SubgridReport, SubgridError> {
     let mut report = SubgridReport::default();
     let mut improve_timed = |mesh: &mut Mesh| -> Result<(), SubgridError> {
-        let t = Instant::now();
+        let (t, mark) = (Instant::now(), mesh.journal_len());
         improve(mesh, params)?;
         report.improve += t.elapsed();
+        report.improve_records.push(mark..mesh.journal_len());
         Ok(())
     };
     let mut counts = match_below_grid(backend, mesh, target, spacing, max_distance, fidelity)?;

@@ -8,6 +8,10 @@
 //! length. At the end of every frame the mesh is compacted, so its whole state is what the written
 //! frame holds (plus `next_id`): resuming from a written frame continues bit-identically.
 
+mod churn;
+
+pub use churn::{Churn, StageChurn};
+
 use crate::compute::Backend;
 use crate::events::{EventKind, EventList};
 use crate::grid::{GridFrame, RasterError};
@@ -17,6 +21,8 @@ use crate::project::{Bvh, ProjectError, closest_points};
 use crate::register::{RegisterError, RegisterOptions, register_onto};
 use crate::topology::subgrid::{Fidelity, SubgridCounts, SubgridError, match_and_improve};
 use crate::topology::{Field, TopologyError, TopologyOptions, constrain_topology};
+use churn::Marks;
+use rustc_hash::FxHashSet;
 use serde::{Deserialize, Serialize};
 use std::time::{Duration, Instant};
 use thiserror::Error;
@@ -157,6 +163,13 @@ pub struct FrameLog {
     pub topology_changed: bool,
     /// Components below the grid's resolution deleted, copied in or replaced.
     pub reconciled: SubgridCounts,
+    /// Share of the frame's vertices carried over from the previous frame (same id); none for
+    /// the first frame.
+    #[serde(default)]
+    pub carried: Option<f64>,
+    /// What each stage created and removed, and the vertices of the previous frame it lost.
+    #[serde(default)]
+    pub churn: StageChurn,
     pub times: StageTimes,
 }
 
@@ -264,24 +277,32 @@ impl Tracker {
     ) -> Result<(EventList, FrameLog), TrackError> {
         let start = Instant::now();
         let mut times = StageTimes::default();
+        let before: FxHashSet<u64> = self.mesh.vertices().map(|v| self.mesh.id(v)).collect();
+        let mut marks = Marks::default();
         // The target's tree serves the projection baseline, the sub-grid match and the residual.
         let bvh = Bvh::build(target).map_err(|source| TrackError::Project { frame, source })?;
         // Lines 5–6: M follows T_j; Φ(T_j) is sampled meanwhile.
         let (converged, phi_t) = self.follow(backend, frame, target, &bvh, &mut times)?;
         // Line 7: improve.
+        let mark = self.mesh.journal_len();
         self.improve(frame, &mut times)?;
+        marks.improve.push(mark..self.mesh.journal_len());
         // Lines 8–9: merge M's self-intersections, ConstrainTopology(M, Φ(M)).
         let t = Instant::now();
         let phi_m = Field::signed_distance(backend, self.grid, &self.mesh.to_indexed())
             .map_err(|source| TrackError::Topology { frame, source })?;
+        let mark = self.mesh.journal_len();
         let merged = self.constrain(frame, &phi_m)?;
+        marks.topology_self = mark..self.mesh.journal_len();
         times.topology_self = ms(t.elapsed());
         // Lines 10–11: take the target's topology, ConstrainTopology(M, Φ(T_j)).
         let t = Instant::now();
+        let mark = self.mesh.journal_len();
         let constrained = self.constrain(frame, &phi_t)?;
+        marks.topology_target = mark..self.mesh.journal_len();
         times.topology_target = ms(t.elapsed());
         // What the grid cannot see, then line 12: improve (with the match's re-check).
-        let t = Instant::now();
+        let (t, mark) = (Instant::now(), self.mesh.journal_len());
         let matched = match_and_improve(
             backend,
             &mut self.mesh,
@@ -296,8 +317,13 @@ impl Tracker {
         .map_err(|source| TrackError::Reconcile { frame, source })?;
         times.improve += ms(matched.improve);
         times.reconcile = ms(t.elapsed()) - ms(matched.improve);
+        marks.subgrid = mark..self.mesh.journal_len();
+        marks
+            .improve
+            .extend(matched.improve_records.iter().cloned());
 
         // Every stage changed the mesh through its mutations: one drain gives the frame's events.
+        let churn = marks.churn(self.mesh.journal_since(0), &before);
         let events = EventList::drain(&mut self.mesh);
         self.mesh.compact();
         let residual = self.residual(backend, &bvh, frame, &mut times)?;
@@ -311,6 +337,9 @@ impl Tracker {
             times,
         );
         log.reconciled = matched.counts;
+        log.carried =
+            Some(before.len().saturating_sub(churn.lost()) as f64 / log.vertices.max(1) as f64);
+        log.churn = churn;
         Ok((events, log))
     }
 
@@ -409,6 +438,8 @@ impl Tracker {
             registration_converged,
             topology_changed,
             reconciled: SubgridCounts::default(),
+            carried: None,
+            churn: StageChurn::default(),
             times,
         }
     }
