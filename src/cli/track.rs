@@ -22,10 +22,13 @@ pub struct TrackArgs {
     /// Output directory.
     #[arg(short, long)]
     pub out: PathBuf,
-    /// Where correspondence projection runs: auto (a hardware GPU if there is one), cpu or gpu.
+    /// Where the data-parallel stages run (correspondence projection, closest points, and the
+    /// topology grid's rasterization, sweeps and narrow-band distance): auto (a hardware GPU if
+    /// there is one), cpu or gpu.
     #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
     pub backend: BackendChoice,
-    /// Tracked frame format.
+    /// Tracked frame format: ply. obj is refused, since OBJ cannot carry the persistent vertex ids
+    /// that propagate, eval, export and --resume read; `propagate --format obj` writes OBJ.
     #[arg(long, value_enum, default_value_t = MeshFormat::Ply)]
     pub format: MeshFormat,
     /// Continue an interrupted run in OUT from its last complete frame.
@@ -174,6 +177,11 @@ impl MeshFormat {
 }
 
 pub fn run(args: &TrackArgs) -> Result<(), CliError> {
+    // Refused before anything is read or written: an OBJ run could be neither propagated,
+    // evaluated nor exported, and its resume would renumber every vertex.
+    if args.format == MeshFormat::Obj {
+        return Err(CliError::ObjTracking);
+    }
     let sequence = discover_sequence(&args.input)?;
     for (from, to) in &sequence.gaps {
         eprintln!("warning: input frames {from}..={to} are missing; tracking across the gap");
