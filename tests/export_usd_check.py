@@ -5,7 +5,8 @@ point and face counts, topology, positions and `id` primvar equal to the PLY fra
 equal to the definition (forward difference where the id lives on, else backward, else 0) within
 1e-5 relative, and the carried channels as primvars.
 
-usage: export_usd_check.py OUT.usda PLY_DIR [--fps 24] [--start 1] [--expect-color] [--expect-st]
+usage: export_usd_check.py OUT.usda PLY_DIR [--fps 24] [--start 1] [--up-axis Y]
+                           [--expect-color] [--expect-st]
 Prints one line per frame and a summary; exits non-zero on the first failed check.
 """
 
@@ -67,6 +68,7 @@ def main():
     parser.add_argument("ply_dir")
     parser.add_argument("--fps", type=float, default=24.0)
     parser.add_argument("--start", type=float, default=1.0)
+    parser.add_argument("--up-axis", default="Y")
     parser.add_argument("--expect-color", action="store_true")
     parser.add_argument("--expect-st", action="store_true")
     args = parser.parse_args()
@@ -90,6 +92,9 @@ def main():
         fail(f"timeCodesPerSecond {stage.GetTimeCodesPerSecond()} is not {args.fps}")
     if (stage.GetStartTimeCode(), stage.GetEndTimeCode()) != (times[0], times[-1]):
         fail(f"time codes {stage.GetStartTimeCode()}..{stage.GetEndTimeCode()} are not {times[0]}..{times[-1]}")
+
+    if UsdGeom.GetStageUpAxis(stage) != args.up_axis:
+        fail(f"upAxis {UsdGeom.GetStageUpAxis(stage)} is not {args.up_axis}")
 
     attributes = {
         "points": mesh.GetPointsAttr(),
