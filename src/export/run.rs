@@ -6,7 +6,7 @@ use super::usd::{UsdLayer, UsdSettings};
 use crate::apps::VelocityStream;
 use crate::io::{prepare_output_dir, write_ply};
 use crate::mesh::Attribute;
-use crate::propagate::frame_name;
+use crate::sequence::frame_name;
 use std::path::{Path, PathBuf};
 
 /// Name of the PLY vertex attribute holding velocities (written as `vx vy vz`).

@@ -4,7 +4,8 @@
 use super::ExportError;
 use crate::io::{ReadOptions, read_frame_with};
 use crate::mesh::{Attribute, IndexedMesh};
-use crate::propagate::{TrackedSequence, frame_name};
+use crate::propagate::TrackedSequence;
+use crate::sequence::frame_name;
 use rustc_hash::FxHashMap;
 use std::path::{Path, PathBuf};
 
