@@ -2,9 +2,11 @@
 //! deforming mesh plus per-frame event lists (Bojsen-Hansen, Li & Wojtan 2012, "Tracking Surfaces
 //! with Evolving Topology").
 
+pub mod apps;
 pub mod compute;
 pub mod eval;
 pub mod events;
+pub mod export;
 pub mod grid;
 pub mod improve;
 pub mod io;

@@ -1,6 +1,7 @@
 use std::path::PathBuf;
 use surftrack::compute::ComputeError;
 use surftrack::eval::EvalError;
+use surftrack::export::ExportError;
 use surftrack::io::IoError;
 use surftrack::mesh::MeshError;
 use surftrack::propagate::PropagateError;
@@ -34,6 +35,12 @@ pub enum CliError {
     Propagate(#[from] PropagateError),
     #[error(transparent)]
     Eval(#[from] EvalError),
+    #[error(transparent)]
+    Export(#[from] ExportError),
+    #[error(
+        "track writes PLY frames only: OBJ cannot carry the persistent vertex ids that propagate, eval, export and --resume read; write OBJ from the tracked frames with `surftrack propagate TRACKED --format obj`"
+    )]
+    ObjTracking,
     #[error("{failing} of {total} tracked frames fail the bars (see the table)")]
     EvalFailed { failing: usize, total: usize },
 }

@@ -4,6 +4,7 @@ mod bench;
 mod demo;
 mod error;
 mod eval;
+mod export;
 mod inspect;
 mod propagate;
 mod synth;
@@ -49,6 +50,10 @@ enum Command {
     /// input's mean edge length), components and Euler characteristic, triangle quality, coherence,
     /// and drift from a synth manifest's ground truth. Prints a table, writes JSON.
     Eval(eval::EvalArgs),
+    /// Write a tracked sequence for renderers and DCCs: a USD Mesh sampled per frame with the
+    /// persistent `id` primvar, carried channels and `velocities` (motion blur), and/or PLY frames
+    /// with velocities as `vx vy vz`.
+    Export(export::ExportArgs),
 }
 
 pub fn run(cli: Cli) -> Result<(), CliError> {
@@ -60,5 +65,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Demo(args) => demo::run(&args),
         Command::Propagate(args) => propagate::run(&args),
         Command::Eval(args) => eval::run(&args),
+        Command::Export(args) => export::run(&args),
     }
 }

@@ -22,10 +22,13 @@ pub struct TrackArgs {
     /// Output directory.
     #[arg(short, long)]
     pub out: PathBuf,
-    /// Where correspondence projection runs: auto (a hardware GPU if there is one), cpu or gpu.
+    /// Where the data-parallel stages run (correspondence projection, closest points, and the
+    /// topology grid's rasterization, sweeps and narrow-band distance): auto (a hardware GPU if
+    /// there is one), cpu or gpu.
     #[arg(long, value_enum, default_value_t = BackendChoice::Auto)]
     pub backend: BackendChoice,
-    /// Tracked frame format.
+    /// Tracked frame format: ply. obj is refused, since OBJ cannot carry the persistent vertex ids
+    /// that propagate, eval, export and --resume read; `propagate --format obj` writes OBJ.
     #[arg(long, value_enum, default_value_t = MeshFormat::Ply)]
     pub format: MeshFormat,
     /// Continue an interrupted run in OUT from its last complete frame.
@@ -165,15 +168,19 @@ pub enum MeshFormat {
 }
 
 impl MeshFormat {
-    fn frame_format(self) -> FrameFormat {
+    /// The tracked frames' format. OBJ is refused: an OBJ run could be neither propagated,
+    /// evaluated nor exported, and its resume would renumber every vertex.
+    fn frame_format(self) -> Result<FrameFormat, CliError> {
         match self {
-            MeshFormat::Ply => FrameFormat::Ply,
-            MeshFormat::Obj => FrameFormat::Obj,
+            MeshFormat::Ply => Ok(FrameFormat::Ply),
+            MeshFormat::Obj => Err(CliError::ObjTracking),
         }
     }
 }
 
 pub fn run(args: &TrackArgs) -> Result<(), CliError> {
+    // Checked before anything is read or written.
+    let format = args.format.frame_format()?;
     let sequence = discover_sequence(&args.input)?;
     for (from, to) in &sequence.gaps {
         eprintln!("warning: input frames {from}..={to} are missing; tracking across the gap");
@@ -185,7 +192,7 @@ pub fn run(args: &TrackArgs) -> Result<(), CliError> {
     let backend = Backend::select(args.backend)?;
     let output = Output {
         layout: Layout::new(&args.out),
-        format: args.format.frame_format(),
+        format,
         params: &args.params,
         start: if args.resume {
             Start::Resume

@@ -33,9 +33,9 @@
 //! ```
 //!
 //! Attribute channels are named by convention: `color` (3 or 4 components) as
-//! `red green blue [alpha]`, `normal` (3) as `nx ny nz`, `uv` (2) as `u v`, any other
-//! single-component attribute by its name and any other k-component attribute as
-//! `name_0 … name_{k-1}`. The reader groups properties back the same way (also accepting `s t`
+//! `red green blue [alpha]`, `normal` (3) as `nx ny nz`, `uv` (2) as `u v`, `velocity` (3) as
+//! `vx vy vz`, any other single-component attribute by its name and any other k-component
+//! attribute as `name_0 … name_{k-1}`. The reader groups properties back the same way (also accepting `s t`
 //! and `texture_u texture_v` for `uv`), so every mesh `write_ply` accepts reads back identically;
 //! integer colours from other tools are scaled to [0, 1].
 //!

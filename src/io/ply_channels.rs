@@ -6,13 +6,14 @@
 //! | `color` | 3 or 4 | `red green blue [alpha]` |
 //! | `normal` | 3 | `nx ny nz` |
 //! | `uv` | 2 | `u v` (also read: `s t`, `texture_u texture_v`, `texture_s texture_t`) |
+//! | `velocity` | 3 | `vx vy vz` (what Houdini and Blender PLY importers read as velocity) |
 //! | any name | 1 | the name itself |
 //! | any name | k ≥ 2 | `name_0 … name_{k-1}` |
 
 use crate::mesh::Attribute;
 
 /// Named channel groups, tried in this order; the first of each list is what is written.
-const CONVENTIONS: [(&str, &[&str]); 7] = [
+const CONVENTIONS: [(&str, &[&str]); 8] = [
     ("color", &["red", "green", "blue", "alpha"]),
     ("color", &["red", "green", "blue"]),
     ("normal", &["nx", "ny", "nz"]),
@@ -20,6 +21,7 @@ const CONVENTIONS: [(&str, &[&str]); 7] = [
     ("uv", &["s", "t"]),
     ("uv", &["texture_u", "texture_v"]),
     ("uv", &["texture_s", "texture_t"]),
+    ("velocity", &["vx", "vy", "vz"]),
 ];
 
 /// The vertex property names of an attribute's channels, in component order.

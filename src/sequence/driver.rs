@@ -8,7 +8,7 @@ use super::{FrameFormat, Layout, RunState, SequenceError, Summary};
 use crate::compute::Backend;
 use crate::events::EventList;
 use crate::events::file::encode;
-use crate::io::{ObjOptions, atomic_write, prepare_output_dir, read_frame, write_obj, write_ply};
+use crate::io::{atomic_write, prepare_output_dir, read_frame, write_ply};
 use crate::mesh::IndexedMesh;
 use crate::track::{FrameLog, TrackOptions, Tracker};
 use serde::Serialize;
@@ -251,7 +251,6 @@ fn commit<P: Serialize>(
     let path = w.layout.frame_path(k, w.format);
     match w.format {
         FrameFormat::Ply => write_ply(&path, &mesh)?,
-        FrameFormat::Obj => write_obj(&path, &mesh, &ObjOptions::default())?,
     }
     let bytes = encode(events);
     atomic_write(&w.layout.events_path(k), |f| f.write_all(&bytes))?;

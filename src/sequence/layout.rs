@@ -13,18 +13,17 @@ pub const TRACK_FILE: &str = "track.json";
 /// Totals and per-frame figures, written last.
 pub const SUMMARY_FILE: &str = "summary.json";
 
-/// The file format of the tracked frames.
+/// The file format of the tracked frames, recorded in `track.json`: binary PLY, the one format
+/// that carries the persistent vertex ids (`id`) every reader of a tracked folder needs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum FrameFormat {
     Ply,
-    Obj,
 }
 
 impl FrameFormat {
     pub fn extension(self) -> &'static str {
         match self {
             FrameFormat::Ply => "ply",
-            FrameFormat::Obj => "obj",
         }
     }
 }
