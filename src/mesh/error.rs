@@ -38,7 +38,26 @@ pub enum MeshError {
     #[error("isolated vertex {vertex} belongs to no triangle")]
     IsolatedVertex { vertex: usize },
     #[error("patch replacement: {0}")]
-    Replacement(#[from] super::ReplacementError),
+    Replacement(#[from] ReplacementError),
     #[error("half-edge structure corrupt: {0}")]
     Corrupt(String),
+}
+
+/// Why a replacement's record does not account for its surface.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum ReplacementError {
+    #[error("the surface has no persistent ids")]
+    NoIds,
+    #[error(
+        "vertex {id} appears in the surface but the mesh has no such vertex and nothing creates it"
+    )]
+    Unrecorded { id: u64 },
+    #[error("vertex {id} leaves the mesh but nothing removes it")]
+    Vanished { id: u64 },
+    #[error("vertex {id} is created twice, or with an id already handed out")]
+    Reused { id: u64 },
+    #[error("vertex {id} is created but not in the surface")]
+    Lost { id: u64 },
+    #[error("vertex {id} is removed but was not in the mesh, or is still in the surface")]
+    NotRemovable { id: u64 },
 }

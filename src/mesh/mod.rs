@@ -14,11 +14,11 @@ mod replace;
 mod topology;
 mod validate;
 
-pub use error::MeshError;
+pub use error::{MeshError, ReplacementError};
 pub use halfedge::{FaceId, HalfEdgeId, Mesh, Outgoing, VertexId};
 pub use indexed::{Attribute, IndexedMesh};
 pub use mutation::Mutation;
 pub use normals::NormalWeighting;
 pub use quality::{QualityStats, aspect_ratio, min_angle_degrees};
-pub use replace::{Replacement, ReplacementError};
+pub use replace::Replacement;
 pub use topology::{ComponentTopology, Topology};

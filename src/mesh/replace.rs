@@ -7,7 +7,7 @@
 //! through, and no stage can change the mesh without its events.
 
 use super::halfedge::Mesh;
-use super::{Attribute, IndexedMesh, MeshError, Mutation};
+use super::{Attribute, IndexedMesh, MeshError, Mutation, ReplacementError};
 use rustc_hash::{FxHashMap, FxHashSet};
 
 /// A new surface for the mesh and the record of how it came from the old one.
@@ -20,25 +20,6 @@ pub struct Replacement {
     /// Every created vertex (`SplitEdge`, `SplitFace`, `PatchCreated`) and every removed one
     /// (`PatchDeleted`), in the order the event list applies them.
     pub record: Vec<Mutation>,
-}
-
-/// Why a replacement's record does not account for its surface.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-pub enum ReplacementError {
-    #[error("the surface has no persistent ids")]
-    NoIds,
-    #[error(
-        "vertex {id} appears in the surface but the mesh has no such vertex and nothing creates it"
-    )]
-    Unrecorded { id: u64 },
-    #[error("vertex {id} leaves the mesh but nothing removes it")]
-    Vanished { id: u64 },
-    #[error("vertex {id} is created twice, or with an id already handed out")]
-    Reused { id: u64 },
-    #[error("vertex {id} is created but not in the surface")]
-    Lost { id: u64 },
-    #[error("vertex {id} is removed but was not in the mesh, or is still in the surface")]
-    NotRemovable { id: u64 },
 }
 
 impl Mesh {
