@@ -238,7 +238,7 @@ fn other_variants(stage: Stage, group: &mut BenchmarkGroup<'_, WallTime>, gpu: O
                 })
             });
             if let (Some(backend), Some(context)) = (gpu, context) {
-                let resident = GpuBvh::upload(context, &f.bvh).expect("upload");
+                let resident = f.bvh.upload(context).expect("upload");
                 let job = GpuQueries::project(context, &f.bvh, &f.points, &f.normals, &options)
                     .expect("upload");
                 job.dispatch(context, &resident).expect("dispatch");
@@ -258,7 +258,7 @@ fn other_variants(stage: Stage, group: &mut BenchmarkGroup<'_, WallTime>, gpu: O
         Stage::ClosestPoint => {
             let n = f.points.len();
             if let (Some(backend), Some(context)) = (gpu, context) {
-                let resident = GpuBvh::upload(context, &f.bvh).expect("upload");
+                let resident = f.bvh.upload(context).expect("upload");
                 let job = GpuQueries::closest_points(context, &f.bvh, &f.points, f32::INFINITY)
                     .expect("upload");
                 job.dispatch(context, &resident).expect("dispatch");

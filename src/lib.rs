@@ -5,9 +5,11 @@
 pub mod compute;
 pub mod eval;
 pub mod events;
+pub mod geometry;
 pub mod grid;
 pub mod improve;
 pub mod io;
+pub mod kernels;
 pub mod mesh;
 pub mod project;
 pub mod propagate;

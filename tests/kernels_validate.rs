@@ -5,7 +5,8 @@
 use std::path::{Path, PathBuf};
 
 use naga::valid::{Capabilities, ValidationFlags, Validator};
-use surftrack::compute::registry::{Access, GPU_STRUCTS, KERNELS, SHARED};
+use surftrack::compute::Access;
+use surftrack::kernels::{GPU_STRUCTS, KERNELS, SHARED};
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -1,5 +1,5 @@
 // BVH layout and query records shared by project.wgsl and closest_point.wgsl. Mirrored by Rust
-// structs in src/project/ (node.rs, triangle.rs, correspondence.rs, options.rs) and constants
+// structs in src/kernels/shared/bvh/ (node.rs, triangle.rs, correspondence.rs, query_params.rs) and constants
 // there (Bvh::STACK_SIZE, Status codes); tests compare both with what naga reports for this file.
 // `vec3<f32>` aligns to 16 bytes, so every vec3 is followed by a 4-byte member, a payload or an
 // explicit padding word written as 0.

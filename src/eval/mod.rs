@@ -8,6 +8,7 @@
 mod distance;
 mod drift;
 mod error;
+mod options;
 mod quality;
 mod report;
 mod run;
@@ -17,6 +18,7 @@ pub use distance::{
 };
 pub use drift::{Drift, MaterialPoints};
 pub use error::EvalError;
+pub use options::EvalOptions;
 pub use quality::{ANGLE_BUCKETS, ASPECT_BUCKETS, TriangleQuality, triangle_quality};
 pub use report::{EvalReport, FrameReport, Summary};
-pub use run::{EvalOptions, evaluate};
+pub use run::evaluate;

@@ -3,40 +3,14 @@
 use super::EvalError;
 use super::distance::surface_distances;
 use super::drift::MaterialPoints;
+use super::options::EvalOptions;
 use super::quality::triangle_quality;
 use super::report::{EvalReport, FrameReport};
-use crate::compute::Backend;
 use crate::io::{discover_sequence, read_frame};
 use crate::mesh::IndexedMesh;
 use crate::propagate::TrackedSequence;
 use crate::synth::{MANIFEST_FILE, Manifest, RigidTransform};
 use std::path::{Path, PathBuf};
-
-/// What `eval` compares against, where it measures, and the bars it checks.
-#[derive(Debug, Clone)]
-pub struct EvalOptions {
-    /// The input sequence (directory, pattern or file list); `None` takes the list in `track.json`.
-    pub input: Option<PathBuf>,
-    pub backend: Backend,
-    /// Minimum angle (degrees) a good triangle has; the paper's improvement threshold is 10°.
-    pub angle_threshold: f32,
-    /// Largest Hausdorff distance, in Δ, a frame may have.
-    pub max_hausdorff: f32,
-    /// Smallest fraction of good triangles a frame may have.
-    pub min_good_triangles: f64,
-}
-
-impl Default for EvalOptions {
-    fn default() -> Self {
-        Self {
-            input: None,
-            backend: Backend::Cpu,
-            angle_threshold: 10.0,
-            max_hausdorff: 1.0,
-            min_good_triangles: 0.99,
-        }
-    }
-}
 
 /// Evaluates the tracked sequence in `tracked` against its input frames (see [`FrameReport`]).
 ///

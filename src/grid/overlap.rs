@@ -10,10 +10,10 @@
 
 use rayon::prelude::*;
 
-use super::crossing::GridCrossing;
 use super::lattice::{LatticeMesh, cell_key, key_cell};
 use super::predicates::{LocalSegment, cross_axes};
 use super::sparse::Crossings;
+use crate::kernels::shared::GridCrossing;
 
 /// A mesh edge piercing a cell face: a "type 2" point of the cut.
 #[derive(Debug, Clone, Copy, PartialEq)]

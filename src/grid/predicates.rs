@@ -18,13 +18,26 @@
 
 use std::cmp::Ordering;
 
-use super::crossing::GridCrossing;
-use super::lattice::{CELL_UNITS, FRACTION_BITS, LatticePoint, cell_range};
+use super::lattice::cell_range;
+use crate::kernels::shared::GridCrossing;
+use crate::kernels::shared::{CELL_UNITS, FRACTION_BITS, LatticePoint};
 
 /// The two axes of the plane across lines along `axis`, in cyclic order: `(y, z)`, `(z, x)`, `(x, y)`.
 /// With this order the 2-D cross product of the projection is the normal's `axis` component.
 pub const fn cross_axes(axis: usize) -> (usize, usize) {
     ((axis + 1) % 3, (axis + 2) % 3)
+}
+
+/// Number of candidate lines of a triangle with vertex cells `lo..=hi`, per axis.
+///
+/// A line along `axis` can meet the perturbed triangle only when it lies strictly inside the
+/// projected bounding box, shifted by `-δ`: its cells along the two other axes are in
+/// `lo + 1 ..= hi`.
+pub(crate) fn candidate_counts(lo: [i32; 3], hi: [i32; 3]) -> [u64; 3] {
+    std::array::from_fn(|axis| {
+        let (u, v) = cross_axes(axis);
+        (hi[u] - lo[u]) as u64 * (hi[v] - lo[v]) as u64
+    })
 }
 
 /// Sign of `x` as -1, 0 or 1.

@@ -10,8 +10,8 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
-use super::crossing::GridCrossing;
 use super::predicates::cross_axes;
+use crate::kernels::shared::GridCrossing;
 
 /// The corners that differ only along `axis`: the line through cells `at` of the two other axes,
 /// in [`cross_axes`] order (`(y, z)` for x lines, `(z, x)` for y lines, `(x, y)` for z lines).

@@ -11,7 +11,6 @@
 mod assess;
 mod collapse;
 mod deviation;
-mod distance;
 mod error;
 mod fix;
 mod flip;
@@ -23,10 +22,10 @@ mod report;
 mod scan;
 mod split;
 
+pub use crate::geometry::point_triangle_distance;
 pub use assess::{
     ANGLE_BUCKETS, Assessment, LENGTH_BUCKETS, RATIO_BUCKETS, TriangleQuality, assess,
 };
-pub use distance::point_triangle_distance;
 pub use error::ImproveError;
 pub use hausdorff::{SurfaceDistance, one_sided_hausdorff};
 pub use params::ImproveParams;

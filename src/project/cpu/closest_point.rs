@@ -8,9 +8,11 @@
 use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 
-use crate::project::options::QueryParams;
-use crate::project::point_triangle::{closest_on_triangle, side_normal};
-use crate::project::{Bvh, BvhNode, Correspondence, Status};
+use crate::geometry::{Region, region};
+use crate::kernels::shared::{
+    BvhNode, BvhTriangle, Correspondence, NormalTriple, PseudoNormals, QueryParams, Status,
+};
+use crate::project::Bvh;
 
 /// The nearest surface point of every point.
 pub(in crate::project) fn closest_point_cpu(
@@ -115,7 +117,7 @@ fn finish(bvh: &Bvh, p: Vec3, slot: u32) -> Correspondence {
         return Correspondence::MISS;
     };
     let nearest = closest_on_triangle(p, tri);
-    let side = side_normal(tri, &bvh.pseudo_normals()[slot], nearest.feature);
+    let side = side_normal(tri, &bvh.pseudo_normals()[slot], nearest.region);
     let distance = (p - nearest.point).length();
     let signed = if (p - nearest.point).dot(side) < 0.0 {
         -distance
@@ -130,4 +132,59 @@ fn finish(bvh: &Bvh, p: Vec3, slot: u32) -> Correspondence {
         Vec3::from_array(nearest.weights),
         Status::Accepted,
     )
+}
+
+/// The nearest point, its barycentric weights and the region it lies in, which decides the sign
+/// of the distance.
+struct Nearest {
+    point: Vec3,
+    weights: [f32; 3],
+    region: Region<f32>,
+}
+
+/// The point of `tri` nearest to `p`, with the weights `closest_on_triangle` in
+/// `kernels/closest_point.wgsl` computes.
+#[inline(always)]
+fn closest_on_triangle(p: Vec3, tri: &BvhTriangle) -> Nearest {
+    let [a, b, c] = tri.corners();
+    let found = region(p, a, b, c);
+    let weights = match found {
+        Region::Vertex(k) => {
+            let mut w = [0.0; 3];
+            w[k] = 1.0;
+            w
+        }
+        Region::Edge(0, s) => [1.0 - s, s, 0.0],
+        Region::Edge(1, s) => [0.0, 1.0 - s, s],
+        Region::Edge(_, s) => [1.0 - s, 0.0, s],
+        Region::Face(v, w) => [1.0 - v - w, v, w],
+        // Only a degenerate (zero-area) triangle gets here; its corner a is as good as any point.
+        Region::Degenerate => [1.0, 0.0, 0.0],
+    };
+    let point = match found {
+        Region::Vertex(k) => [a, b, c][k],
+        Region::Degenerate => a,
+        _ => a * weights[0] + b * weights[1] + c * weights[2],
+    };
+    Nearest {
+        point,
+        weights,
+        region: found,
+    }
+}
+
+/// The normal whose side of the surface `p` is on when its nearest point lies in `region`: the
+/// face normal inside the face, the pseudo-normal on an edge or at a corner.
+fn side_normal(tri: &BvhTriangle, pseudo: &PseudoNormals, region: Region<f32>) -> Vec3 {
+    let pick = |t: &NormalTriple, k: usize| match k {
+        0 => t.a,
+        1 => t.b,
+        _ => t.c,
+    };
+    match region {
+        Region::Vertex(k) => pick(&pseudo.vertices, k),
+        Region::Edge(k, _) => pick(&pseudo.edges, k),
+        Region::Degenerate => pick(&pseudo.vertices, 0),
+        Region::Face(..) => (tri.b - tri.a).cross(tri.c - tri.a),
+    }
 }

@@ -8,10 +8,10 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::project::options::QueryParams;
+use crate::kernels::shared::{BvhNode, Correspondence, QueryParams, Status};
+use crate::project::Bvh;
 use crate::project::slab::Slabs;
 use crate::project::watertight::Shear;
-use crate::project::{Bvh, BvhNode, Correspondence, Status};
 
 /// Projects every point along its direction (unit, or zero for a query to skip).
 pub(in crate::project) fn project_cpu(

@@ -1,8 +1,6 @@
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
-use crate::compute::registry::{GpuStructLayout, SharedWgsl};
-
 /// What became of one query.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Status {
@@ -36,26 +34,29 @@ impl Status {
     }
 }
 
-/// The target point found for one query: by a normal ray ([`super::project`]) or as the nearest
-/// surface point ([`super::closest_points`]).
-///
-/// Mirrors `struct Correspondence` in `kernels/shared/bvh.wgsl`. For a miss every field but
-/// `status` is 0 and `triangle` is [`Correspondence::NO_TRIANGLE`].
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct Correspondence {
-    /// The point on the target.
-    pub point: Vec3,
-    /// Signed distance to `point`: the ray parameter `t` of `p + t·n` for a projection (n unit),
-    /// and for a closest point `|p − point|`, negative when `p` is inside the target.
-    pub distance: f32,
-    /// The target's vertex normals interpolated at `point` (unit).
-    pub normal: Vec3,
-    /// Index of the hit triangle in the target mesh.
-    pub triangle: u32,
-    /// Weights of the triangle's three corners (in the target's order) at `point`; they sum to 1.
-    pub barycentric: Vec3,
-    status: u32,
+gpu_struct! {
+    mirrors BVH;
+    /// The target point found for one query: by a normal ray ([`super::project`]) or as the nearest
+    /// surface point ([`super::closest_points`]).
+    ///
+    /// Mirrors `struct Correspondence` in `kernels/shared/bvh.wgsl`. For a miss every field but
+    /// `status` is 0 and `triangle` is [`Correspondence::NO_TRIANGLE`].
+    #[repr(C)]
+    #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+    pub struct Correspondence {
+        /// The point on the target.
+        pub point: Vec3,
+        /// Signed distance to `point`: the ray parameter `t` of `p + t·n` for a projection (n unit),
+        /// and for a closest point `|p − point|`, negative when `p` is inside the target.
+        pub distance: f32,
+        /// The target's vertex normals interpolated at `point` (unit).
+        pub normal: Vec3,
+        /// Index of the hit triangle in the target mesh.
+        pub triangle: u32,
+        /// Weights of the triangle's three corners (in the target's order) at `point`; they sum to 1.
+        pub barycentric: Vec3,
+        status: u32,
+    }
 }
 
 impl Correspondence {
@@ -103,20 +104,6 @@ impl Correspondence {
     pub fn hit_triangle(&self) -> Option<u32> {
         (self.status() != Status::Miss).then_some(self.triangle)
     }
-
-    pub const LAYOUT: GpuStructLayout = GpuStructLayout {
-        name: "Correspondence",
-        wgsl: &SharedWgsl::BVH,
-        size: size_of::<Self>(),
-        members: &[
-            ("point", core::mem::offset_of!(Self, point)),
-            ("distance", core::mem::offset_of!(Self, distance)),
-            ("normal", core::mem::offset_of!(Self, normal)),
-            ("triangle", core::mem::offset_of!(Self, triangle)),
-            ("barycentric", core::mem::offset_of!(Self, barycentric)),
-            ("status", core::mem::offset_of!(Self, status)),
-        ],
-    };
 }
 
 #[cfg(test)]

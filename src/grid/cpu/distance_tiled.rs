@@ -14,8 +14,9 @@
 use rayon::prelude::*;
 use wide::f32x8;
 
-use super::distance::{BandChunk, BandTile, Nearest};
-use super::triangle_tree::{TreeTriangle, TriangleTree, point_triangle_distance_squared};
+use super::distance::place;
+use crate::grid::triangle_tree::{TriangleTree, point_triangle_distance_squared};
+use crate::kernels::shared::{BandChunk, BandTile, Nearest, PLANE_SLACK, TreeTriangle};
 
 /// Most triangles gathered for one tile; a tile near more searches the tree once per corner. The
 /// kernel's private array holds 256 (`kernels/shared/distance.wgsl`); here the vector bounds and
@@ -33,11 +34,6 @@ const SKIP_BLOCK: usize = 8;
 fn min(a: f32, b: f32) -> f32 {
     if a < b { a } else { b }
 }
-
-/// Allowance for rounding in the plane distance, in cells: the bounds only prune, so making them
-/// smaller can cost time but never the nearest triangle. Mirrors `PLANE_SLACK` in
-/// `kernels/shared/distance.wgsl`.
-const PLANE_SLACK: f32 = 1e-4;
 
 /// Allowance for rounding in the squared in-plane distance of the disk bound, in squared cells:
 /// its terms are squared offsets of a few cells, each rounded a few times in f32 (about 1e-5), so
@@ -263,7 +259,7 @@ struct Scratch {
 }
 
 /// One closure call per tile; the results are then placed at their chunks' output offsets.
-pub(crate) fn distance_cpu(
+pub fn distance_tiled(
     tree: &TriangleTree,
     chunks: &[BandChunk],
     tiles: &[BandTile],
@@ -276,28 +272,7 @@ pub(crate) fn distance_cpu(
             tile_nearest(tree, own, bound, scratch)
         })
         .collect();
-    let total = chunks.iter().map(|c| c.len as usize).sum();
-    let mut nearest = vec![
-        Nearest {
-            distance_squared: bound,
-            slot: Nearest::NONE,
-        };
-        total
-    ];
-    for (tile, results) in tiles.iter().zip(per_tile) {
-        let own = &chunks[tile.first as usize..(tile.first + tile.count) as usize];
-        let mut results = results.into_iter();
-        for chunk in own {
-            let out = chunk.out as usize;
-            for (slot, r) in nearest[out..out + chunk.len as usize]
-                .iter_mut()
-                .zip(&mut results)
-            {
-                *slot = r;
-            }
-        }
-    }
-    nearest
+    place(chunks, tiles, per_tile, bound)
 }
 
 /// Fills `g.gathered` with the triangles of `g.slots`, relative to the tile's lowest corner.
@@ -518,4 +493,55 @@ fn tile_nearest(
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+    use crate::compute::Backend;
+    use crate::grid::band::dilated_corners;
+    use crate::grid::cpu::distance::distance_cpu;
+    use crate::grid::distance::tiles;
+    use crate::grid::{GridFrame, LatticeMesh, edge_faces, footprint, rasterize};
+    use crate::mesh::IndexedMesh;
+
+    /// The variant finds the twin's minimum at every corner, bit for bit, whether a tile gathers
+    /// all its triangles or falls back to one search per corner.
+    #[test]
+    fn the_tiled_variant_agrees_with_the_kernel_twin() {
+        let meshes = [
+            IndexedMesh::torus(1.0, 0.35, 48, 24),
+            IndexedMesh::icosphere(Vec3::new(0.1, -0.2, 0.3), 0.8, 3),
+        ];
+        for (mesh, factor, half_width) in [(&meshes[0], 1.0, 3.0), (&meshes[1], 0.3, 9.0)] {
+            let frame = GridFrame::for_mesh(mesh, factor).unwrap();
+            let lattice = LatticeMesh::new(frame, mesh).unwrap();
+            let crossings = rasterize(&Backend::Cpu, &lattice).unwrap();
+            let cells = footprint(&lattice, &crossings, &edge_faces(&lattice));
+            let rows = dilated_corners(&cells, half_width);
+            let tree = TriangleTree::build(&lattice);
+            let bound = half_width * half_width;
+            for chunk_len in [1, 4, 8] {
+                let (chunks, tiles) = tiles(&rows, chunk_len).unwrap();
+                let twin = distance_cpu(&tree, &chunks, &tiles, bound);
+                let variant = distance_tiled(&tree, &chunks, &tiles, bound);
+                assert_eq!(twin.len(), variant.len());
+                let differing: Vec<usize> = (0..twin.len())
+                    .filter(|&i| {
+                        twin[i].distance_squared.to_bits() != variant[i].distance_squared.to_bits()
+                            || (twin[i].slot == Nearest::NONE) != (variant[i].slot == Nearest::NONE)
+                    })
+                    .collect();
+                assert!(
+                    differing.is_empty(),
+                    "chunks of {chunk_len}: {} of {} corners differ, first {:?}",
+                    differing.len(),
+                    twin.len(),
+                    &differing[..differing.len().min(8)]
+                );
+            }
+        }
+    }
 }

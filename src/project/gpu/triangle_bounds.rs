@@ -1,70 +1,11 @@
-//! Per-triangle axis-aligned bounding boxes, the leaves of a BVH over a target mesh.
-//!
-//! Kernel: `kernels/triangle_bounds.wgsl`. [`triangle_bounds_cpu`] is its twin, with the same
-//! per-triangle body. Min and max are exact in f32, so both backends return identical bits (for
-//! finite coordinates, which every validated mesh has).
+//! GPU host of `kernels/triangle_bounds.wgsl`.
 
 use glam::Vec3;
-use rayon::prelude::*;
 
-use super::{Aabb, Backend, ComputeError, GpuContext};
-
-/// The bounding box of every triangle, in triangle order.
-///
-/// Fails with [`ComputeError::IndexOutOfRange`] when a triangle references a missing position,
-/// and with a GPU error when the GPU backend cannot run the kernel.
-pub fn triangle_bounds(
-    backend: &Backend,
-    positions: &[Vec3],
-    triangles: &[[u32; 3]],
-) -> Result<Vec<Aabb>, ComputeError> {
-    match backend {
-        Backend::Cpu => {
-            check_indices(positions.len(), triangles)?;
-            Ok(triangle_bounds_cpu(positions, triangles))
-        }
-        Backend::Gpu(context) => {
-            // `upload` checks the indices.
-            let job = GpuTriangleBounds::upload(context, positions, triangles)?;
-            job.dispatch(context)?;
-            job.read(context)
-        }
-    }
-}
-
-/// CPU twin of `kernels/triangle_bounds.wgsl`: one closure call per kernel invocation `t`.
-fn triangle_bounds_cpu(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<Aabb> {
-    let load_position = |v: u32| positions[v as usize];
-    triangles
-        .par_iter()
-        .map(|tri| {
-            let a = load_position(tri[0]);
-            let b = load_position(tri[1]);
-            let c = load_position(tri[2]);
-            Aabb::new(a.min(b).min(c), a.max(b).max(c))
-        })
-        .collect()
-}
-
-/// The first triangle (in order, whatever the thread count) with an index past `count`.
-fn check_indices(count: usize, triangles: &[[u32; 3]]) -> Result<(), ComputeError> {
-    let bad = triangles
-        .par_iter()
-        .enumerate()
-        .find_first(|(_, tri)| tri.iter().any(|&v| v as usize >= count));
-    match bad {
-        None => Ok(()),
-        Some((triangle, tri)) => Err(ComputeError::IndexOutOfRange {
-            triangle,
-            vertex: tri
-                .iter()
-                .copied()
-                .find(|&v| v as usize >= count)
-                .unwrap_or(tri[0]),
-            count,
-        }),
-    }
-}
+use crate::compute::{ComputeError, GpuContext};
+use crate::kernels::TRIANGLE_BOUNDS;
+use crate::kernels::shared::Aabb;
+use crate::project::indices::check_indices;
 
 /// The kernel's buffers on the GPU, split into upload, dispatch and readback so each step can be
 /// timed on its own (see `benches/triangle_bounds.rs`).
@@ -117,7 +58,7 @@ impl GpuTriangleBounds {
     pub fn dispatch(&self, context: &GpuContext) -> Result<(), ComputeError> {
         for chunk in &self.chunks {
             context.dispatch(
-                "triangle_bounds",
+                &TRIANGLE_BOUNDS,
                 &[&self.positions, &chunk.triangles, &chunk.bounds],
                 chunk.count as u64,
             )?;

@@ -1,10 +1,11 @@
-//! The sweep kernel's buffers: upload, dispatch and readback kept apart so each can be timed on its
+//! GPU host of `kernels/sweep.wgsl`: its buffers, upload, dispatch and readback kept apart so each can be timed on its
 //! own (see `benches/grid.rs`).
 
-use super::RasterError;
-use super::sparse::Crossings;
-use super::sweep::WindingRun;
 use crate::compute::GpuContext;
+use crate::grid::RasterError;
+use crate::grid::sparse::Crossings;
+use crate::kernels::SWEEP;
+use crate::kernels::shared::WindingRun;
 
 /// Sorted crossings uploaded for `kernels/sweep.wgsl`, with one run slot per crossing.
 #[derive(Debug)]
@@ -42,7 +43,7 @@ impl GpuSweep {
         let Some(b) = &self.buffers else {
             return Ok(());
         };
-        context.dispatch("sweep", &[&b.crossings, &b.starts, &b.runs], b.lines as u64)?;
+        context.dispatch(&SWEEP, &[&b.crossings, &b.starts, &b.runs], b.lines as u64)?;
         Ok(())
     }
 

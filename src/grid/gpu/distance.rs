@@ -1,36 +1,11 @@
-//! The distance kernel's buffers: upload, dispatch and readback kept apart so each can be timed on
+//! GPU host of `kernels/distance.wgsl`: its buffers, upload, dispatch and readback kept apart so each can be timed on
 //! its own (see `benches/grid.rs`).
 
-use bytemuck::{Pod, Zeroable};
-
-use super::RasterError;
-use super::distance::{BandChunk, BandTile, Nearest};
-use super::triangle_tree::TriangleTree;
 use crate::compute::GpuContext;
-use crate::compute::registry::{GpuStructLayout, SharedWgsl};
-
-/// The tree's base cell and the band's squared half-width in cells.
-///
-/// Mirrors `struct DistanceParams` in `kernels/shared/distance.wgsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct DistanceParams {
-    pub base: [i32; 3],
-    pub bound: f32,
-}
-
-impl DistanceParams {
-    /// The layout the WGSL mirror must have, checked against naga in `tests/kernels_validate.rs`.
-    pub const LAYOUT: GpuStructLayout = GpuStructLayout {
-        name: "DistanceParams",
-        wgsl: &SharedWgsl::DISTANCE,
-        size: size_of::<Self>(),
-        members: &[
-            ("base", core::mem::offset_of!(Self, base)),
-            ("bound", core::mem::offset_of!(Self, bound)),
-        ],
-    };
-}
+use crate::grid::RasterError;
+use crate::grid::triangle_tree::TriangleTree;
+use crate::kernels::DISTANCE;
+use crate::kernels::shared::{BandChunk, BandTile, DistanceParams, Nearest};
 
 /// A triangle tree and candidate corners uploaded for `kernels/distance.wgsl`, one chunk per tile.
 ///
@@ -101,7 +76,7 @@ impl GpuDistance {
             return Ok(());
         };
         context.dispatch(
-            "distance",
+            &DISTANCE,
             &[
                 &b.params,
                 &b.nodes,

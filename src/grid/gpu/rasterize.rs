@@ -1,13 +1,14 @@
-//! The rasterize kernel's buffers: upload, dispatch and readback kept apart so each can be timed on
+//! GPU host of `kernels/rasterize.wgsl`: its buffers, upload, dispatch and readback kept apart so each can be timed on
 //! its own (see `benches/grid.rs`).
 
 use rayon::prelude::*;
 
-use super::RasterError;
-use super::crossing::GridCrossing;
-use super::lattice::LatticeMesh;
-use super::rasterize::candidate_counts;
 use crate::compute::GpuContext;
+use crate::grid::RasterError;
+use crate::grid::lattice::LatticeMesh;
+use crate::grid::predicates::candidate_counts;
+use crate::kernels::RASTERIZE;
+use crate::kernels::shared::GridCrossing;
 
 /// A mesh uploaded for `kernels/rasterize.wgsl`, with room for every candidate to cross.
 #[derive(Debug)]
@@ -68,7 +69,7 @@ impl GpuRasterize {
             return Ok(());
         };
         context.dispatch(
-            "rasterize",
+            &RASTERIZE,
             &[&b.points, &b.triangles, &b.offsets, &b.crossings, &b.count],
             u64::from(b.candidates),
         )?;

@@ -1,13 +1,16 @@
+//! The triangles around each vertex, for gathering per-vertex quantities in parallel.
+
 /// The triangles around each vertex, in triangle order (compressed rows), built by a counting
 /// sort so the rows are the same whatever the thread count.
-pub(super) struct VertexFaces {
+#[derive(Debug, Clone)]
+pub struct VertexFaces {
     start: Vec<u32>,
     faces: Vec<u32>,
 }
 
 impl VertexFaces {
     /// Indices must be below `vertices`.
-    pub(super) fn new(vertices: usize, triangles: &[[u32; 3]]) -> Self {
+    pub fn new(vertices: usize, triangles: &[[u32; 3]]) -> Self {
         let mut start = vec![0u32; vertices + 1];
         for tri in triangles {
             for &v in tri {
@@ -28,12 +31,12 @@ impl VertexFaces {
         Self { start, faces }
     }
 
-    pub(super) fn vertices(&self) -> usize {
+    pub fn vertices(&self) -> usize {
         self.start.len() - 1
     }
 
     /// The triangles having vertex `v` as a corner, ascending.
-    pub(super) fn around(&self, v: u32) -> &[u32] {
+    pub fn around(&self, v: u32) -> &[u32] {
         &self.faces[self.start[v as usize] as usize..self.start[v as usize + 1] as usize]
     }
 }

@@ -1,64 +1,17 @@
-//! The query kernels' buffers: the BVH, uploaded once per target frame and kept on the device,
-//! and each batch of queries, split into upload, dispatch and readback so each step can be timed
-//! on its own (see `benches/project.rs`).
-
-use std::sync::{Arc, Weak};
+//! GPU host of `kernels/project.wgsl` and `kernels/closest_point.wgsl`: each batch of queries,
+//! split into upload, dispatch and readback so each step can be timed on its own (see
+//! `benches/project.rs`). The BVH they traverse is uploaded once per target frame ([`GpuBvh`]).
 
 use glam::Vec3;
 
-use super::options::{QueryParams, absolute_distance};
-use super::order::SpatialOrder;
-use super::query::directions;
-use super::{Bvh, Correspondence, ProjectError, ProjectOptions};
+use super::GpuBvh;
 use crate::compute::{ComputeError, GpuContext};
-
-/// A BVH's arrays on one GPU.
-#[derive(Debug, Clone)]
-pub struct GpuBvh {
-    nodes: wgpu::Buffer,
-    triangles: wgpu::Buffer,
-    normals: wgpu::Buffer,
-    pseudo_normals: wgpu::Buffer,
-}
-
-impl GpuBvh {
-    pub fn upload(context: &GpuContext, bvh: &Bvh) -> Result<Self, ComputeError> {
-        Ok(Self {
-            nodes: context.upload("bvh nodes", bvh.nodes())?,
-            triangles: context.upload("bvh triangles", bvh.triangles())?,
-            normals: context.upload("bvh normals", bvh.normals())?,
-            pseudo_normals: context.upload("bvh pseudo-normals", bvh.pseudo_normals())?,
-        })
-    }
-}
-
-/// The upload a [`Bvh`] keeps for the context it was first queried on. The weak reference both
-/// identifies the context and keeps its address from being reused while the upload lives.
-#[derive(Debug)]
-pub(super) struct Resident {
-    context: Weak<GpuContext>,
-    bvh: GpuBvh,
-}
-
-impl Bvh {
-    /// This BVH on `context`'s device: uploaded on the first query there and kept; for any other
-    /// context it is uploaded for the one query.
-    pub(super) fn on_gpu(&self, context: &Arc<GpuContext>) -> Result<GpuBvh, ComputeError> {
-        if let Some(resident) = self.resident.get() {
-            if Weak::ptr_eq(&resident.context, &Arc::downgrade(context)) {
-                return Ok(resident.bvh.clone());
-            }
-            return GpuBvh::upload(context, self);
-        }
-        let bvh = GpuBvh::upload(context, self)?;
-        // Another thread may have stored its upload first; this one then serves only this query.
-        let _ = self.resident.set(Resident {
-            context: Arc::downgrade(context),
-            bvh: bvh.clone(),
-        });
-        Ok(bvh)
-    }
-}
+use crate::kernels::shared::{Correspondence, QueryParams};
+use crate::kernels::{CLOSEST_POINT, PROJECT};
+use crate::project::directions::directions;
+use crate::project::options::absolute_distance;
+use crate::project::order::SpatialOrder;
+use crate::project::{Bvh, ProjectError, ProjectOptions};
 
 /// A batch of queries on the GPU, in chunks small enough for one storage binding each.
 #[derive(Debug)]
@@ -81,7 +34,7 @@ struct Chunk {
 
 impl GpuQueries {
     /// Uploads the projections of `points` along `normals` onto `bvh`'s target (see
-    /// [`super::project`]).
+    /// [`crate::project::project`]).
     pub fn project(
         context: &GpuContext,
         bvh: &Bvh,
@@ -97,7 +50,7 @@ impl GpuQueries {
     }
 
     /// Uploads the closest-point queries of `points` onto `bvh`'s target (see
-    /// [`super::closest_points`]).
+    /// [`crate::project::closest_points`]).
     pub fn closest_points(
         context: &GpuContext,
         bvh: &Bvh,
@@ -147,7 +100,7 @@ impl GpuQueries {
         for chunk in &self.chunks {
             match &chunk.directions {
                 Some(directions) => context.dispatch(
-                    "project",
+                    &PROJECT,
                     &[
                         &self.params,
                         &bvh.nodes,
@@ -160,7 +113,7 @@ impl GpuQueries {
                     chunk.count as u64,
                 )?,
                 None => context.dispatch(
-                    "closest_point",
+                    &CLOSEST_POINT,
                     &[
                         &self.params,
                         &bvh.nodes,
