@@ -13,12 +13,13 @@ mod quality;
 mod report;
 mod run;
 
+pub use crate::geometry::ANGLE_BUCKETS;
 pub use distance::{
     SurfaceDistances, labelled_surface_samples, surface_distances, surface_samples,
 };
 pub use drift::{Drift, MaterialPoints};
 pub use error::EvalError;
 pub use options::EvalOptions;
-pub use quality::{ANGLE_BUCKETS, ASPECT_BUCKETS, TriangleQuality, triangle_quality};
+pub use quality::{ASPECT_BUCKETS, TriangleQuality, triangle_quality};
 pub use report::{EvalReport, FrameReport, Summary};
 pub use run::evaluate;

@@ -68,44 +68,33 @@ pub enum Region<S> {
 #[inline(always)]
 pub fn region<V: Vector>(p: V, a: V, b: V, c: V) -> Region<V::Scalar> {
     let zero = V::Scalar::ZERO;
-    let ab = b - a;
-    let ac = c - a;
-    let ap = p - a;
-    let d1 = ab.dot(ap);
-    let d2 = ac.dot(ap);
-    if d1 <= zero && d2 <= zero {
-        return Region::Vertex(0);
-    }
-    let bp = p - b;
-    let d3 = ab.dot(bp);
-    let d4 = ac.dot(bp);
-    if d3 >= zero && d4 <= d3 {
-        return Region::Vertex(1);
-    }
+    let (ab, ac) = (b - a, c - a);
+    let dots = |q: V| (ab.dot(q), ac.dot(q));
+    let (d1, d2) = dots(p - a);
+    let (d3, d4) = dots(p - b);
+    let (d5, d6) = dots(p - c);
     let vc = d1 * d4 - d3 * d2;
-    if vc <= zero && d1 >= zero && d3 <= zero {
-        return Region::Edge(0, d1 / (d1 - d3));
-    }
-    let cp = p - c;
-    let d5 = ab.dot(cp);
-    let d6 = ac.dot(cp);
-    if d6 >= zero && d5 <= d6 {
-        return Region::Vertex(2);
-    }
     let vb = d5 * d2 - d1 * d6;
-    if vb <= zero && d2 >= zero && d6 <= zero {
-        return Region::Edge(2, d2 / (d2 - d6));
-    }
     let va = d3 * d6 - d5 * d4;
-    if va <= zero && d4 - d3 >= zero && d5 - d6 >= zero {
-        return Region::Edge(1, (d4 - d3) / ((d4 - d3) + (d5 - d6)));
-    }
     let sum = va + vb + vc;
-    // Also catches a NaN sum.
-    if !(sum > zero) {
-        return Region::Degenerate;
+    if d1 <= zero && d2 <= zero {
+        Region::Vertex(0)
+    } else if d3 >= zero && d4 <= d3 {
+        Region::Vertex(1)
+    } else if vc <= zero && d1 >= zero && d3 <= zero {
+        Region::Edge(0, d1 / (d1 - d3))
+    } else if d6 >= zero && d5 <= d6 {
+        Region::Vertex(2)
+    } else if vb <= zero && d2 >= zero && d6 <= zero {
+        Region::Edge(2, d2 / (d2 - d6))
+    } else if va <= zero && d4 - d3 >= zero && d5 - d6 >= zero {
+        Region::Edge(1, (d4 - d3) / ((d4 - d3) + (d5 - d6)))
+    } else if sum > zero {
+        Region::Face(vb / sum, vc / sum)
+    } else {
+        // Also a NaN sum.
+        Region::Degenerate
     }
-    Region::Face(vb / sum, vc / sum)
 }
 
 /// Distance from `p` to triangle `(a, b, c)`, exact for every triangle, degenerate ones included;

@@ -37,8 +37,10 @@ pub use overlap::{
     EdgeFace, TriangleCells, cells_around, edge_faces, footprint, mesh_edges, triangle_cells,
 };
 pub use predicates::cross_axes;
+pub(crate) use predicates::{last_above, segment_sign};
 pub use raster_error::RasterError;
 pub use rasterize::rasterize;
+pub(crate) use sparse::row_starts;
 pub use sparse::{Crossings, GridLine, LineIndex};
 pub use sweep::{CornerWindings, Windings, sweep};
 pub use triangle_tree::TriangleTree;

@@ -55,6 +55,38 @@ fn first_sign(values: &[i64]) -> i32 {
         .unwrap_or(0)
 }
 
+/// The sign of a predicate on a segment and the planes of axes `a` and `b` (`a != b`) whose exact
+/// value has sign `exact`: when that is 0, the perturbation decides. The tie is
+/// `−d_b ε^(a+1) + d_a ε^(b+1)`, read lower power first, where `d_a`, `d_b` are the signs of the
+/// segment's extent along each axis. The rasterizer's mesh edges and the topology step's cut
+/// share it, so both see one configuration.
+pub(crate) fn segment_sign(exact: i32, a: usize, b: usize, d_a: i32, d_b: i32) -> i32 {
+    if exact != 0 {
+        exact
+    } else if a < b {
+        if d_b != 0 { -d_b } else { d_a }
+    } else if d_a != 0 {
+        d_a
+    } else {
+        -d_b
+    }
+}
+
+/// The largest `x` in `lo..=hi` for which `above(x)` holds, `lo` when none past it does, for an
+/// `above` that holds up to some index and fails beyond it: the cell where a segment or a grid
+/// line leaves the range `lo..=hi`, found by bisection.
+pub(crate) fn last_above(mut lo: i32, mut hi: i32, above: impl Fn(i32) -> bool) -> i32 {
+    while lo < hi {
+        let mid = lo + (hi - lo + 1) / 2;
+        if above(mid) {
+            lo = mid;
+        } else {
+            hi = mid - 1;
+        }
+    }
+    lo
+}
+
 /// A triangle with its corners as lattice offsets from its lowest cell (`base`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct LocalTriangle {
@@ -169,15 +201,7 @@ pub(crate) fn line_crossing(
         q
     };
     let past = |i: i32| plane_side(n, a, corner_at(i)).1 == want;
-    let (mut lo, mut hi) = (tri.base[axis], hi_along);
-    while lo < hi {
-        let mid = lo + (hi - lo + 1) / 2;
-        if past(mid) {
-            lo = mid;
-        } else {
-            hi = mid - 1;
-        }
-    }
+    let lo = last_above(tri.base[axis], hi_along, past);
     let (s, _) = plane_side(n, a, corner_at(lo));
     let t = crossing_fraction(s as f32, d as f32);
     let mut corner = [0; 3];
@@ -229,14 +253,7 @@ impl LocalSegment {
         let i = i64::from(self.plane(axis, plane));
         let j = i64::from(self.plane(other, other_plane));
         let k = (i64::from(self.p[other]) - j) * d[axis] + d[other] * (i - i64::from(self.p[axis]));
-        let s = if k != 0 {
-            sign(k)
-        } else if other < axis {
-            first_sign(&[d[axis], -d[other]])
-        } else {
-            first_sign(&[-d[other], d[axis]])
-        };
-        s * sign(d[axis]) > 0
+        segment_sign(sign(k), axis, other, sign(d[axis]), sign(d[other])) * sign(d[axis]) > 0
     }
 
     /// The cell face that the segment pierces on plane `plane` of `axis`: the cell just above the
@@ -247,19 +264,9 @@ impl LocalSegment {
         cell[axis] = plane;
         let (u, v) = cross_axes(axis);
         for other in [u, v] {
-            let (mut lo, mut hi) = (
-                self.cell_p[other].min(self.cell_q[other]),
-                self.cell_p[other].max(self.cell_q[other]),
-            );
-            while lo < hi {
-                let mid = lo + (hi - lo + 1) / 2;
-                if self.past(axis, plane, other, mid) {
-                    lo = mid;
-                } else {
-                    hi = mid - 1;
-                }
-            }
-            cell[other] = lo;
+            let lo = self.cell_p[other].min(self.cell_q[other]);
+            let hi = self.cell_p[other].max(self.cell_q[other]);
+            cell[other] = last_above(lo, hi, |mid| self.past(axis, plane, other, mid));
         }
         cell
     }
@@ -275,14 +282,8 @@ impl LocalSegment {
         let i = i64::from(self.plane(a, i)) - i64::from(self.p[a]);
         let j = i64::from(self.plane(b, j)) - i64::from(self.p[b]);
         let n = i * d[b] - j * d[a];
-        let s = if n != 0 {
-            sign(n)
-        } else if a < b {
-            first_sign(&[-d[b], d[a]])
-        } else {
-            first_sign(&[d[a], -d[b]])
-        };
-        (s * sign(d[a]) * sign(d[b])).cmp(&0)
+        let (d_a, d_b) = (sign(d[a]), sign(d[b]));
+        (segment_sign(sign(n), a, b, d_a, d_b) * d_a * d_b).cmp(&0)
     }
 
     /// Parameter of the crossing with plane `plane` of `axis` along the segment, in `(0, 1)`.

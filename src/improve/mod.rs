@@ -22,10 +22,8 @@ mod report;
 mod scan;
 mod split;
 
-pub use crate::geometry::point_triangle_distance;
-pub use assess::{
-    ANGLE_BUCKETS, Assessment, LENGTH_BUCKETS, RATIO_BUCKETS, TriangleQuality, assess,
-};
+pub use crate::geometry::{ANGLE_BUCKETS, point_triangle_distance};
+pub use assess::{Assessment, FailingTriangle, LENGTH_BUCKETS, RATIO_BUCKETS, assess};
 pub use error::ImproveError;
 pub use hausdorff::{SurfaceDistance, one_sided_hausdorff};
 pub use params::ImproveParams;

@@ -16,9 +16,10 @@ pub mod shared;
 use crate::compute::{Access, Binding, GpuStructLayout, KernelInfo, SharedWgsl};
 
 /// A [`KernelInfo`] for `kernels/<name>.wgsl`, whose entry point is `main` with 64 threads per
-/// workgroup, from its shared files, its CPU twin and its bindings in binding order.
+/// workgroup and whose CPU twin is `src/<stage>/cpu/<name>.rs`, from its shared files and its
+/// bindings in binding order.
 macro_rules! kernel {
-    ($name:literal, shared: [$($shared:ident),*], twin: $twin:literal, bindings: [$($access:ident $binding:ident),* $(,)?]) => {
+    ($stage:literal, $name:literal, [$($shared:ident),*], [$($access:ident $binding:ident),* $(,)?]) => {
         KernelInfo {
             name: $name,
             path: concat!("kernels/", $name, ".wgsl"),
@@ -27,7 +28,7 @@ macro_rules! kernel {
             entry_point: "main",
             workgroup_size: 64,
             bindings: &[$(Binding { name: stringify!($binding), access: kernel!(@$access) }),*],
-            cpu_twin: $twin,
+            cpu_twin: concat!("src/", $stage, "/cpu/", $name, ".rs"),
         }
     };
     (@read) => { Access::Read };
@@ -63,29 +64,30 @@ pub const SHARED: &[SharedWgsl] = &[
     SharedWgsl::DISTANCE,
 ];
 
-pub const TRIANGLE_BOUNDS: KernelInfo = kernel!("triangle_bounds", shared: [AABB],
-    twin: "src/project/cpu/triangle_bounds.rs",
-    bindings: [read positions, read triangles, write bounds]);
+/// Per triangle, its bounding box: the leaves of the BVH.
+pub const TRIANGLE_BOUNDS: KernelInfo = kernel!("project", "triangle_bounds", [AABB],
+    [read positions, read triangles, write bounds]);
 
-pub const PROJECT: KernelInfo = kernel!("project", shared: [BVH],
-    twin: "src/project/cpu/project.rs",
-    bindings: [read params, read nodes, read triangles, read normals, read points, read directions, write correspondences]);
+/// Per point, the nearest hit of its normal line on the target.
+pub const PROJECT: KernelInfo = kernel!("project", "project", [BVH], [read params, read nodes,
+    read triangles, read normals, read points, read directions, write correspondences]);
 
-pub const CLOSEST_POINT: KernelInfo = kernel!("closest_point", shared: [BVH],
-    twin: "src/project/cpu/closest_point.rs",
-    bindings: [read params, read nodes, read triangles, read normals, read pseudo_normals, read points, write correspondences]);
+/// Per point, the nearest point of the target with its signed distance.
+pub const CLOSEST_POINT: KernelInfo = kernel!("project", "closest_point", [BVH], [read params,
+    read nodes, read triangles, read normals, read pseudo_normals, read points,
+    write correspondences]);
 
-pub const RASTERIZE: KernelInfo = kernel!("rasterize", shared: [LATTICE, EXACT, CROSSING],
-    twin: "src/grid/cpu/rasterize.rs",
-    bindings: [read points, read triangles, read offsets, write crossings, write count]);
+/// Per candidate grid line, the crossing of a triangle with a grid edge.
+pub const RASTERIZE: KernelInfo = kernel!("grid", "rasterize", [LATTICE, EXACT, CROSSING],
+    [read points, read triangles, read offsets, write crossings, write count]);
 
-pub const SWEEP: KernelInfo = kernel!("sweep", shared: [CROSSING],
-    twin: "src/grid/cpu/sweep.rs",
-    bindings: [read crossings, read starts, write runs]);
+/// Per grid line, the winding runs of its sorted crossings.
+pub const SWEEP: KernelInfo = kernel!("grid", "sweep", [CROSSING],
+    [read crossings, read starts, write runs]);
 
-pub const DISTANCE: KernelInfo = kernel!("distance", shared: [DISTANCE],
-    twin: "src/grid/cpu/distance.rs",
-    bindings: [read params, read nodes, read triangles, read boxes, read chunks, read tiles, write nearest]);
+/// Per tile of band corners, the nearest triangle of each corner.
+pub const DISTANCE: KernelInfo = kernel!("grid", "distance", [DISTANCE], [read params, read nodes,
+    read triangles, read boxes, read chunks, read tiles, write nearest]);
 
 /// Every kernel.
 pub const KERNELS: &[KernelInfo] = &[

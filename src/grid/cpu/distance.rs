@@ -22,20 +22,27 @@ pub fn distance_cpu(
     tiles: &[BandTile],
     bound: f32,
 ) -> Vec<Nearest> {
-    let per_tile: Vec<Vec<Nearest>> = tiles
-        .par_iter()
-        .map(|tile| main(tree, chunks, tile, bound))
-        .collect();
-    place(chunks, tiles, per_tile, bound)
+    per_tile(chunks, tiles, bound, || (), |_, own| main(tree, own, bound))
 }
 
-/// Writes each tile's results, chunk by chunk in tile order, at its chunks' output offsets.
-pub(in crate::grid) fn place(
+/// Runs `body` once per tile, on the tile's own chunks with a scratch value from `init`, and
+/// writes each tile's results, chunk by chunk in tile order, at its chunks' output offsets.
+pub(in crate::grid) fn per_tile<S>(
     chunks: &[BandChunk],
     tiles: &[BandTile],
-    per_tile: Vec<Vec<Nearest>>,
     bound: f32,
+    init: impl Fn() -> S + Sync + Send,
+    body: impl Fn(&mut S, &[BandChunk]) -> Vec<Nearest> + Sync + Send,
 ) -> Vec<Nearest> {
+    let per_tile: Vec<Vec<Nearest>> = tiles
+        .par_iter()
+        .map_init(&init, |scratch, tile| {
+            body(
+                scratch,
+                &chunks[tile.first as usize..(tile.first + tile.count) as usize],
+            )
+        })
+        .collect();
     let total = chunks.iter().map(|c| c.len as usize).sum();
     let mut nearest = vec![
         Nearest {
@@ -78,8 +85,7 @@ fn lower_bound(tree: &TriangleTree, slot: u32, corner: [i32; 3], p: [f32; 3]) ->
 }
 
 /// The body of one kernel invocation: the results of one tile's corners, chunk by chunk.
-fn main(tree: &TriangleTree, chunks: &[BandChunk], tile: &BandTile, bound: f32) -> Vec<Nearest> {
-    let own = &chunks[tile.first as usize..(tile.first + tile.count) as usize];
+fn main(tree: &TriangleTree, own: &[BandChunk], bound: f32) -> Vec<Nearest> {
     let mut first_corner = [i32::MAX; 3];
     let mut last_corner = [i32::MIN; 3];
     for c in own {

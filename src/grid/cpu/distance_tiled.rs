@@ -11,10 +11,9 @@
 //! exact test of a block with a triangle below the best distance (the scalar test's branches
 //! mispredict; the vector one gives the same bits without them).
 
-use rayon::prelude::*;
 use wide::f32x8;
 
-use super::distance::place;
+use super::distance::per_tile;
 use crate::grid::triangle_tree::{TriangleTree, point_triangle_distance_squared};
 use crate::kernels::shared::{BandChunk, BandTile, Nearest, PLANE_SLACK, TreeTriangle};
 
@@ -265,14 +264,9 @@ pub fn distance_tiled(
     tiles: &[BandTile],
     bound: f32,
 ) -> Vec<Nearest> {
-    let per_tile: Vec<Vec<Nearest>> = tiles
-        .par_iter()
-        .map_init(Scratch::default, |scratch, tile| {
-            let own = &chunks[tile.first as usize..(tile.first + tile.count) as usize];
-            tile_nearest(tree, own, bound, scratch)
-        })
-        .collect();
-    place(chunks, tiles, per_tile, bound)
+    per_tile(chunks, tiles, bound, Scratch::default, |scratch, own| {
+        tile_nearest(tree, own, bound, scratch)
+    })
 }
 
 /// Fills `g.gathered` with the triangles of `g.slots`, relative to the tile's lowest corner.

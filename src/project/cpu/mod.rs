@@ -3,4 +3,5 @@
 
 pub(super) mod closest_point;
 pub mod project;
+pub(super) mod traversal;
 pub(super) mod triangle_bounds;
