@@ -1,5 +1,7 @@
 //! The triangles around each vertex, for gathering per-vertex quantities in parallel.
 
+use crate::grid::row_starts;
+
 /// The triangles around each vertex, in triangle order (compressed rows), built by a counting
 /// sort so the rows are the same whatever the thread count.
 #[derive(Debug, Clone)]
@@ -11,15 +13,11 @@ pub struct VertexFaces {
 impl VertexFaces {
     /// Indices must be below `vertices`.
     pub fn new(vertices: usize, triangles: &[[u32; 3]]) -> Self {
-        let mut start = vec![0u32; vertices + 1];
-        for tri in triangles {
-            for &v in tri {
-                start[v as usize + 1] += 1;
-            }
+        let mut corners = vec![0u32; vertices];
+        for &v in triangles.iter().flatten() {
+            corners[v as usize] += 1;
         }
-        for v in 0..vertices {
-            start[v + 1] += start[v];
-        }
+        let start = row_starts(corners);
         let mut next = start.clone();
         let mut faces = vec![0u32; start[vertices] as usize];
         for (t, tri) in triangles.iter().enumerate() {

@@ -189,17 +189,18 @@ fn check_triangle(
         });
     }
     let (lo, hi) = cell_range(&tri.map(|v| points[v as usize]));
-    for axis in 0..3 {
-        let span = i64::from(hi[axis]) - i64::from(lo[axis]);
-        if span > MAX_TRIANGLE_SPAN {
-            return Err(RasterError::TriangleTooLarge {
-                triangle,
-                axis,
-                span,
-            });
-        }
+    let spans = (0..3).map(|axis| (axis, i64::from(hi[axis]) - i64::from(lo[axis])));
+    match spans
+        .into_iter()
+        .find(|&(_, span)| span > MAX_TRIANGLE_SPAN)
+    {
+        Some((axis, span)) => Err(RasterError::TriangleTooLarge {
+            triangle,
+            axis,
+            span,
+        }),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 #[cfg(test)]

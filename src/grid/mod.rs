@@ -11,6 +11,7 @@ mod marching_cubes;
 mod scalar_grid;
 
 pub use marching_cubes::{T_MIN, marching_cubes};
+pub(crate) use scalar_grid::sample_box;
 pub use scalar_grid::{GridError, MAX_CORNERS, ScalarGrid};
 
 mod band;

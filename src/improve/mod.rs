@@ -11,6 +11,7 @@
 mod assess;
 mod collapse;
 mod deviation;
+mod diamond;
 mod error;
 mod fix;
 mod flip;
