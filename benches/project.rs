@@ -31,7 +31,7 @@ use criterion::{
 use glam::Vec3;
 use surftrack::compute::{Backend, BackendChoice};
 use surftrack::mesh::IndexedMesh;
-use surftrack::project::{Bvh, GpuBvh, GpuQueries, ProjectOptions, closest_points, project};
+use surftrack::project::{Bvh, GpuQueries, ProjectOptions, closest_points, project};
 
 /// Threads of the multi-threaded variants: the two cores of the reference measurements.
 const THREADS: usize = 2;

@@ -73,7 +73,7 @@ fn every_kernel_file_is_registered_and_every_entry_exists() {
         .collect();
     assert!(
         unregistered.is_empty(),
-        "kernel files missing from src/compute/registry.rs: {unregistered:?}"
+        "kernel files missing from src/kernels/mod.rs: {unregistered:?}"
     );
     let missing: Vec<&&str> = registered
         .iter()

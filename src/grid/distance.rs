@@ -241,3 +241,51 @@ fn sign_and_keep(
     }
     band
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+    use crate::grid::cpu::distance::distance_cpu;
+    use crate::grid::{GridFrame, edge_faces, footprint, rasterize};
+    use crate::mesh::IndexedMesh;
+
+    /// The variant finds the twin's minimum at every corner, bit for bit, whether a tile gathers
+    /// all its triangles or falls back to one search per corner.
+    #[test]
+    fn the_tiled_variant_agrees_with_the_kernel_twin() {
+        let meshes = [
+            IndexedMesh::torus(1.0, 0.35, 48, 24),
+            IndexedMesh::icosphere(Vec3::new(0.1, -0.2, 0.3), 0.8, 3),
+        ];
+        for (mesh, factor, half_width) in [(&meshes[0], 1.0, 3.0), (&meshes[1], 0.3, 9.0)] {
+            let frame = GridFrame::for_mesh(mesh, factor).unwrap();
+            let lattice = LatticeMesh::new(frame, mesh).unwrap();
+            let crossings = rasterize(&Backend::Cpu, &lattice).unwrap();
+            let cells = footprint(&lattice, &crossings, &edge_faces(&lattice));
+            let rows = dilated_corners(&cells, half_width);
+            let tree = TriangleTree::build(&lattice);
+            let bound = half_width * half_width;
+            for chunk_len in [1, 4, 8] {
+                let (chunks, tiles) = tiles(&rows, chunk_len).unwrap();
+                let twin = distance_cpu(&tree, &chunks, &tiles, bound);
+                let variant = distance_tiled(&tree, &chunks, &tiles, bound);
+                assert_eq!(twin.len(), variant.len());
+                let differing: Vec<usize> = (0..twin.len())
+                    .filter(|&i| {
+                        twin[i].distance_squared.to_bits() != variant[i].distance_squared.to_bits()
+                            || (twin[i].slot == Nearest::NONE) != (variant[i].slot == Nearest::NONE)
+                    })
+                    .collect();
+                assert!(
+                    differing.is_empty(),
+                    "chunks of {chunk_len}: {} of {} corners differ, first {:?}",
+                    differing.len(),
+                    twin.len(),
+                    &differing[..differing.len().min(8)]
+                );
+            }
+        }
+    }
+}

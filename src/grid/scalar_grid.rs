@@ -130,6 +130,28 @@ impl ScalarGrid {
     }
 }
 
+/// `f` at every corner `[i, j, k]` of a box of `dims` corners (`count` in all), x fastest, one z
+/// plane per task.
+pub(crate) fn sample_box(
+    dims: [usize; 3],
+    count: usize,
+    f: impl Fn([usize; 3]) -> f32 + Sync,
+) -> Vec<f32> {
+    let mut values = vec![0.0f32; count];
+    let plane = dims[0] * dims[1];
+    if plane > 0 {
+        values
+            .par_chunks_mut(plane)
+            .enumerate()
+            .for_each(|(k, slice)| {
+                for (n, value) in slice.iter_mut().enumerate() {
+                    *value = f([n % dims[0], n / dims[0], k]);
+                }
+            });
+    }
+    values
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -181,26 +203,4 @@ mod tests {
             })
         );
     }
-}
-
-/// `f` at every corner `[i, j, k]` of a box of `dims` corners (`count` in all), x fastest, one z
-/// plane per task.
-pub(crate) fn sample_box(
-    dims: [usize; 3],
-    count: usize,
-    f: impl Fn([usize; 3]) -> f32 + Sync,
-) -> Vec<f32> {
-    let mut values = vec![0.0f32; count];
-    let plane = dims[0] * dims[1];
-    if plane > 0 {
-        values
-            .par_chunks_mut(plane)
-            .enumerate()
-            .for_each(|(k, slice)| {
-                for (n, value) in slice.iter_mut().enumerate() {
-                    *value = f([n % dims[0], n / dims[0], k]);
-                }
-            });
-    }
-    values
 }

@@ -7,8 +7,8 @@
 //! gathered triangle whose lower bound is below the best so far. A tile near more than
 //! [`GATHER_CAPACITY`] triangles searches the tree once per corner instead (the kernel's `search`,
 //! [`TriangleTree::nearest`] here). The CPU backend runs the tiled variant
-//! (`distance_tiled.rs`), which finds the same minimum with tighter bounds; `tests/grid_parity.rs`
-//! compares the two.
+//! (`distance_tiled.rs`), which finds the same minimum with tighter bounds; the tests of
+//! `grid/distance.rs` compare the two.
 
 use rayon::prelude::*;
 

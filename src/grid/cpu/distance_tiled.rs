@@ -1,15 +1,17 @@
-//! CPU twin of `kernels/distance.wgsl`: the nearest triangle within the band of every candidate
-//! corner (paper §4.3, the magnitude of `Φ`).
+//! A variant of the distance twin (`distance.rs`, the CPU twin of `kernels/distance.wgsl`) that
+//! the CPU backend runs: the nearest triangle within the band of every candidate corner (paper
+//! §4.3, the magnitude of `Φ`), with the kernel's steps but not its shape.
 //!
-//! Both twins gather the triangles near a tile once and then, corner by corner, test the previous
-//! corner's nearest triangle first and afterwards only the triangles whose lower bound is below
-//! the best distance so far. Pruning by lower bounds cannot change the minimum found, so the twins
-//! agree up to rounding whatever bounds each uses. The GPU keeps one chunk per tile and recomputes
-//! the box and plane bounds ([`super::distance_gpu`] says why); here a tile holds up to
-//! [`TILE_ROWS`](super::distance::TILE_ROWS)² chunks sharing one gather, and the bounds are tighter (a disk around each
-//! triangle) and computed [`SKIP_BLOCK`] triangles at a time as vector instructions, as is the
-//! exact test of a block with a triangle below the best distance (the scalar test's branches
-//! mispredict; the vector one gives the same bits without them).
+//! Like the kernel it gathers the triangles near a tile once and then, corner by corner, tests the
+//! previous corner's nearest triangle first and afterwards only the triangles whose lower bound is
+//! below the best distance so far. Pruning by lower bounds cannot change the minimum found, so it
+//! finds the twin's minimum whatever bounds it uses (its tests compare the two bit for bit). The
+//! GPU keeps one chunk per tile and recomputes the box and plane bounds (`gpu/distance.rs` says
+//! why); here a tile holds up to `TILE_ROWS`² chunks sharing
+//! one gather, and the bounds are tighter (a disk around each triangle) and computed
+//! [`SKIP_BLOCK`] triangles at a time as vector instructions, as is the exact test of a block with
+//! a triangle below the best distance (the scalar test's branches mispredict; the vector one gives
+//! the same bits without them).
 
 use wide::f32x8;
 
@@ -487,55 +489,4 @@ fn tile_nearest(
         }
     }
     out
-}
-
-#[cfg(test)]
-mod tests {
-    use glam::Vec3;
-
-    use super::*;
-    use crate::compute::Backend;
-    use crate::grid::band::dilated_corners;
-    use crate::grid::cpu::distance::distance_cpu;
-    use crate::grid::distance::tiles;
-    use crate::grid::{GridFrame, LatticeMesh, edge_faces, footprint, rasterize};
-    use crate::mesh::IndexedMesh;
-
-    /// The variant finds the twin's minimum at every corner, bit for bit, whether a tile gathers
-    /// all its triangles or falls back to one search per corner.
-    #[test]
-    fn the_tiled_variant_agrees_with_the_kernel_twin() {
-        let meshes = [
-            IndexedMesh::torus(1.0, 0.35, 48, 24),
-            IndexedMesh::icosphere(Vec3::new(0.1, -0.2, 0.3), 0.8, 3),
-        ];
-        for (mesh, factor, half_width) in [(&meshes[0], 1.0, 3.0), (&meshes[1], 0.3, 9.0)] {
-            let frame = GridFrame::for_mesh(mesh, factor).unwrap();
-            let lattice = LatticeMesh::new(frame, mesh).unwrap();
-            let crossings = rasterize(&Backend::Cpu, &lattice).unwrap();
-            let cells = footprint(&lattice, &crossings, &edge_faces(&lattice));
-            let rows = dilated_corners(&cells, half_width);
-            let tree = TriangleTree::build(&lattice);
-            let bound = half_width * half_width;
-            for chunk_len in [1, 4, 8] {
-                let (chunks, tiles) = tiles(&rows, chunk_len).unwrap();
-                let twin = distance_cpu(&tree, &chunks, &tiles, bound);
-                let variant = distance_tiled(&tree, &chunks, &tiles, bound);
-                assert_eq!(twin.len(), variant.len());
-                let differing: Vec<usize> = (0..twin.len())
-                    .filter(|&i| {
-                        twin[i].distance_squared.to_bits() != variant[i].distance_squared.to_bits()
-                            || (twin[i].slot == Nearest::NONE) != (variant[i].slot == Nearest::NONE)
-                    })
-                    .collect();
-                assert!(
-                    differing.is_empty(),
-                    "chunks of {chunk_len}: {} of {} corners differ, first {:?}",
-                    differing.len(),
-                    twin.len(),
-                    &differing[..differing.len().min(8)]
-                );
-            }
-        }
-    }
 }

@@ -32,8 +32,7 @@ impl Stack {
     ) -> Option<u32> {
         let mut near = [(0u32, 0.0f32); 4];
         let mut n_near = 0;
-        for k in 0..4 {
-            let key = keys[k];
+        for (k, &key) in keys.iter().enumerate() {
             if visit(k) && node.count[k] == 0 && key <= best {
                 // Insertion by key, nearest first.
                 let mut j = n_near;
