@@ -31,7 +31,7 @@ use criterion::{
 use glam::Vec3;
 use surftrack::compute::{Backend, BackendChoice};
 use surftrack::mesh::IndexedMesh;
-use surftrack::project::{Bvh, GpuBvh, GpuQueries, ProjectOptions, closest_points, project};
+use surftrack::project::{Bvh, GpuQueries, ProjectOptions, closest_points, project};
 
 /// Threads of the multi-threaded variants: the two cores of the reference measurements.
 const THREADS: usize = 2;
@@ -238,7 +238,7 @@ fn other_variants(stage: Stage, group: &mut BenchmarkGroup<'_, WallTime>, gpu: O
                 })
             });
             if let (Some(backend), Some(context)) = (gpu, context) {
-                let resident = GpuBvh::upload(context, &f.bvh).expect("upload");
+                let resident = f.bvh.upload(context).expect("upload");
                 let job = GpuQueries::project(context, &f.bvh, &f.points, &f.normals, &options)
                     .expect("upload");
                 job.dispatch(context, &resident).expect("dispatch");
@@ -258,7 +258,7 @@ fn other_variants(stage: Stage, group: &mut BenchmarkGroup<'_, WallTime>, gpu: O
         Stage::ClosestPoint => {
             let n = f.points.len();
             if let (Some(backend), Some(context)) = (gpu, context) {
-                let resident = GpuBvh::upload(context, &f.bvh).expect("upload");
+                let resident = f.bvh.upload(context).expect("upload");
                 let job = GpuQueries::closest_points(context, &f.bvh, &f.points, f32::INFINITY)
                     .expect("upload");
                 job.dispatch(context, &resident).expect("dispatch");

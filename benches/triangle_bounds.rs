@@ -7,7 +7,8 @@ use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::Vec3;
-use surftrack::compute::{Backend, BackendChoice, GpuTriangleBounds, triangle_bounds};
+use surftrack::compute::{Backend, BackendChoice};
+use surftrack::project::{GpuTriangleBounds, triangle_bounds};
 
 /// A torus of `2 × rings × segments` triangles with mesh-like index locality.
 fn torus(rings: u32, segments: u32) -> (Vec<Vec3>, Vec<[u32; 3]>) {

@@ -1,11 +1,12 @@
 // Narrow-band distance: the nearest triangle of each candidate corner, within the band.
-// CPU twin: src/grid/distance_cpu.rs (`tile_nearest`, the body of `main`) with
-// src/grid/triangle_tree.rs (`gather`, `nearest`, `point_triangle_distance_squared`). The twin
-// follows the same steps but prunes with tighter bounds computed eight triangles at a time, so
-// both find the same minimum. Prepended: shared/distance.wgsl.
+// CPU twin: src/grid/cpu/distance.rs (`main`, the body of `main` here) with
+// src/grid/triangle_tree.rs (`gather`, `nearest`, `point_triangle_distance_squared`). The CPU
+// backend runs a variant, src/grid/cpu/distance_tiled.rs, which follows the same steps but prunes
+// with tighter bounds computed eight triangles at a time, so all three find the same minimum.
+// Prepended: shared/distance.wgsl.
 //
 // One invocation per tile: chunks of candidate corners along x whose triangles are gathered once
-// (src/grid/distance_gpu.rs makes each chunk a tile of its own, see there why). The triangles
+// (src/grid/gpu/distance.rs makes each chunk a tile of its own, see there why). The triangles
 // whose boxes lie within the band of the tile's box are gathered; each corner bounds every
 // gathered triangle's distance from below (the larger of its box's and its plane's), tests the
 // previous corner's nearest first (for a chunk's first corner, the one with the least bound), then
@@ -110,7 +111,7 @@ fn triangle_distance_squared(slot: u32, corner: vec3<i32>) -> f32 {
 
 // A lower bound of the squared distance from `corner` (at `p` from the tree's base) to the
 // triangle in `slot`: the larger of its box's and its plane's, the plane's reduced by PLANE_SLACK
-// for rounding. src/grid/distance_cpu.rs caches these terms per tile and chunk, with a disk
+// for rounding. src/grid/cpu/distance_tiled.rs caches these terms per tile and chunk, with a disk
 // bound besides.
 fn lower_bound(slot: u32, corner: vec3<i32>, p: vec3<f32>) -> f32 {
     let to_box = box_distance_squared(vec(boxes[slot].min), vec(boxes[slot].max), p);

@@ -158,9 +158,7 @@ fn main(
     var best_slot = NO_TRIANGLE;
     var best_t = 0.0;
     var best_weights = vec3<f32>(0.0);
-    var stack_node: array<u32, STACK_SIZE>;
-    var stack_key: array<f32, STACK_SIZE>;
-    var sp = 0u;
+    sp = 0u;
     var node = nodes[0];
     loop {
         let keys = slab_keys(slabs, node, -best, best);
@@ -182,45 +180,14 @@ fn main(
                 }
             }
         }
-        var near_node: array<u32, 4>;
-        var near_key: array<f32, 4>;
-        var n_near = 0u;
-        for (var k = 0u; k < 4u; k += 1u) {
-            let key = keys.key[k];
-            if keys.hit[k] && node.count[k] == 0u && key <= best {
-                // Insertion by key, nearest first.
-                var j = n_near;
-                while j > 0u && near_key[j - 1u] > key {
-                    near_node[j] = near_node[j - 1u];
-                    near_key[j] = near_key[j - 1u];
-                    j -= 1u;
-                }
-                near_node[j] = node.child[k];
-                near_key[j] = key;
-                n_near += 1u;
-            }
+        var next = descend(node, keys.key, keys.hit, best);
+        if next == NO_NODE {
+            next = pop(best);
         }
-        if n_near > 0u {
-            for (var j = n_near - 1u; j > 0u; j -= 1u) {
-                stack_node[sp] = near_node[j];
-                stack_key[sp] = near_key[j];
-                sp += 1u;
-            }
-            node = nodes[near_node[0]];
-            continue;
-        }
-        var popped = false;
-        while sp > 0u {
-            sp -= 1u;
-            if stack_key[sp] <= best {
-                node = nodes[stack_node[sp]];
-                popped = true;
-                break;
-            }
-        }
-        if !popped {
+        if next == NO_NODE {
             break;
         }
+        node = nodes[next];
     }
     if best_slot == NO_TRIANGLE {
         correspondences[i] = miss();

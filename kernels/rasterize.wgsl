@@ -1,5 +1,5 @@
 // Rasterization: every crossing of a triangle with a grid edge (thesis §3.4.2).
-// CPU twin: src/grid/rasterize.rs (the candidate loop) with src/grid/predicates.rs (`line_crossing`,
+// CPU twin: src/grid/cpu/rasterize.rs (the candidate loop) with src/grid/predicates.rs (`line_crossing`,
 // the body below, line for line). Prepended: shared/lattice.wgsl, shared/exact.wgsl,
 // shared/crossing.wgsl.
 //

@@ -1,5 +1,5 @@
 // Inside/outside sweep: the winding number along every grid line (thesis §3.4.3).
-// CPU twin: src/grid/sweep.rs. Prepended: shared/crossing.wgsl.
+// CPU twin: src/grid/cpu/sweep.rs. Prepended: shared/crossing.wgsl.
 //
 // One invocation per line: `starts[l] .. starts[l + 1]` are its crossings, sorted along it. The
 // slot of the last crossing on each grid edge receives the run of constant winding that starts at

@@ -1,5 +1,5 @@
 // Per-triangle axis-aligned bounding boxes, the leaves of a BVH over a target mesh.
-// CPU twin: src/compute/triangle_bounds.rs. Prepended: shared/aabb.wgsl.
+// CPU twin: src/project/cpu/triangle_bounds.rs. Prepended: shared/aabb.wgsl.
 //
 // Positions and triangles are read as `array<f32, 3>` / `array<u32, 3>` (4-byte aligned, 12-byte
 // stride), so the host uploads `[Vec3]` and `[[u32; 3]]` as they are, without padding to vec4.

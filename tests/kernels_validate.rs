@@ -5,7 +5,8 @@
 use std::path::{Path, PathBuf};
 
 use naga::valid::{Capabilities, ValidationFlags, Validator};
-use surftrack::compute::registry::{Access, GPU_STRUCTS, KERNELS, SHARED};
+use surftrack::compute::Access;
+use surftrack::kernels::{GPU_STRUCTS, KERNELS, SHARED};
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -72,7 +73,7 @@ fn every_kernel_file_is_registered_and_every_entry_exists() {
         .collect();
     assert!(
         unregistered.is_empty(),
-        "kernel files missing from src/compute/registry.rs: {unregistered:?}"
+        "kernel files missing from src/kernels/mod.rs: {unregistered:?}"
     );
     let missing: Vec<&&str> = registered
         .iter()

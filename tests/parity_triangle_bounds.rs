@@ -6,7 +6,9 @@
 
 use glam::Vec3;
 use surftrack::compute::parity::{ParityReport, run_on_gpu};
-use surftrack::compute::{Aabb, Backend, ComputeError, triangle_bounds};
+use surftrack::compute::{Backend, ComputeError};
+use surftrack::kernels::shared::Aabb;
+use surftrack::project::triangle_bounds;
 
 /// SplitMix64: a small deterministic generator, so failures reproduce exactly.
 struct Rng(u64);

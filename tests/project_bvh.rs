@@ -10,7 +10,7 @@ use metaballs::metaballs;
 use naga::{Expression, Literal};
 use surftrack::compute::Backend;
 use surftrack::compute::ComputeError;
-use surftrack::compute::registry::SharedWgsl;
+use surftrack::compute::SharedWgsl;
 use surftrack::mesh::{IndexedMesh, MeshError};
 use surftrack::project::{
     Bvh, BvhChild, BvhNode, Correspondence, ProjectError, ProjectOptions, Status, closest_points,

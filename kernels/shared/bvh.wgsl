@@ -1,5 +1,5 @@
 // BVH layout and query records shared by project.wgsl and closest_point.wgsl. Mirrored by Rust
-// structs in src/project/ (node.rs, triangle.rs, correspondence.rs, options.rs) and constants
+// structs in src/kernels/shared/bvh/ (node.rs, triangle.rs, correspondence.rs, query_params.rs) and constants
 // there (Bvh::STACK_SIZE, Status codes); tests compare both with what naga reports for this file.
 // `vec3<f32>` aligns to 16 bytes, so every vec3 is followed by a 4-byte member, a payload or an
 // explicit padding word written as 0.
@@ -85,4 +85,54 @@ fn blend(t: NormalTriple, w: vec3<f32>) -> vec3<f32> {
         return n / sqrt(length2);
     }
     return vec3<f32>(0.0);
+}
+
+// The traversal both query kernels share (twin: src/project/cpu/traversal.rs): a stack of nodes
+// with their keys, private to each invocation. A kernel tests a node's leaf children, then asks
+// `descend` for the interior child to visit next and, when there is none, `pop`s one.
+const NO_NODE: u32 = 0xffffffffu;
+var<private> stack_node: array<u32, STACK_SIZE>;
+var<private> stack_key: array<f32, STACK_SIZE>;
+var<private> sp: u32;
+
+// The interior children `k` of `node` with `visit[k]` and `key[k] <= best`, nearest first: returns
+// the nearest (NO_NODE when there is none) and pushes the others, farthest first.
+fn descend(node: BvhNode, key: vec4<f32>, visit: vec4<bool>, best: f32) -> u32 {
+    var near_node: array<u32, 4>;
+    var near_key: array<f32, 4>;
+    var n_near = 0u;
+    for (var k = 0u; k < 4u; k += 1u) {
+        if visit[k] && node.count[k] == 0u && key[k] <= best {
+            // Insertion by key, nearest first.
+            var j = n_near;
+            while j > 0u && near_key[j - 1u] > key[k] {
+                near_node[j] = near_node[j - 1u];
+                near_key[j] = near_key[j - 1u];
+                j -= 1u;
+            }
+            near_node[j] = node.child[k];
+            near_key[j] = key[k];
+            n_near += 1u;
+        }
+    }
+    if n_near == 0u {
+        return NO_NODE;
+    }
+    for (var j = n_near - 1u; j > 0u; j -= 1u) {
+        stack_node[sp] = near_node[j];
+        stack_key[sp] = near_key[j];
+        sp += 1u;
+    }
+    return near_node[0];
+}
+
+// The next stacked node whose key is not above `best`, NO_NODE when none is left.
+fn pop(best: f32) -> u32 {
+    while sp > 0u {
+        sp -= 1u;
+        if stack_key[sp] <= best {
+            return stack_node[sp];
+        }
+    }
+    return NO_NODE;
 }

@@ -1,6 +1,6 @@
 // A triangle crossing a grid edge, and a run of constant winding number along a grid line.
-// Mirrored by `surftrack::grid::GridCrossing` (src/grid/crossing.rs) and
-// `surftrack::grid::WindingRun` (src/grid/sweep.rs); a test compares the layouts.
+// Mirrored by `surftrack::kernels::shared::GridCrossing` and
+// `surftrack::kernels::shared::WindingRun` (src/kernels/shared/crossing.rs); a test compares the layouts.
 
 // `flags`: bits 0-1 axis, bit 2 set when walking the edge towards +axis enters the surface.
 struct GridCrossing {

@@ -1,6 +1,5 @@
-// The triangle tree of the narrow-band distance and its query records. Mirrored by
-// `TreeNode`, `TreeTriangle` (src/grid/triangle_tree.rs), `Nearest` (src/grid/distance.rs) and
-// `DistanceParams` (src/grid/distance_gpu.rs); a test compares the layouts. Every member is an
+// The triangle tree of the narrow-band distance and its query records. Mirrored by the structs of
+// src/kernels/shared/distance.rs; a test compares the layouts. Every member is an
 // array of scalars or a scalar (4-byte aligned), so the host uploads its slices as they are.
 
 // Interior node (count == 0): left child next, right child at `index`. Leaf: triangle slots
@@ -61,8 +60,9 @@ struct BandTile {
     count: u32,
 }
 
-// Most triangles gathered for one tile (the CPU twin, src/grid/distance_cpu.rs, gathers more).
+// Most triangles gathered for one tile (`GATHER_CAPACITY` in src/kernels/shared/distance.rs; the tiled variant,
+// src/grid/cpu/distance_tiled.rs, gathers more).
 const GATHER_CAPACITY: u32 = 256u;
 
-// Allowance for rounding in the plane lower bound, in cells (`PLANE_SLACK` in src/grid/distance_cpu.rs).
+// Allowance for rounding in the plane lower bound, in cells (`PLANE_SLACK` in src/kernels/shared/distance.rs).
 const PLANE_SLACK: f32 = 1e-4;

@@ -8,7 +8,7 @@ use wgpu::util::DeviceExt;
 
 use super::ComputeError;
 use super::dispatch::workgroup_grid;
-use super::registry::{self, Access, KernelInfo};
+use super::kernel::{Access, KernelInfo};
 
 /// A compiled kernel: its pipeline and the layout its bind groups must follow.
 #[derive(Clone)]
@@ -177,16 +177,15 @@ impl GpuContext {
         Ok(data)
     }
 
-    /// Runs `kernel` over `items` work items with `buffers` bound in registry order, splitting the
+    /// Runs `info` over `items` work items with `buffers` bound in its bindings' order, splitting the
     /// grid into rows when it exceeds `max_compute_workgroups_per_dimension`. Returns once the work
     /// is submitted; [`Self::read_back`] or [`Self::wait`] waits for it.
     pub fn dispatch(
         &self,
-        kernel: &'static str,
+        info: &'static KernelInfo,
         buffers: &[&wgpu::Buffer],
         items: u64,
     ) -> Result<(), ComputeError> {
-        let info = registry::kernel(kernel)?;
         if buffers.len() != info.bindings.len() {
             return Err(ComputeError::BindingCount {
                 kernel: info.name,
@@ -354,65 +353,4 @@ fn byte_len<T>(label: &'static str, len: usize) -> Result<usize, ComputeError> {
 /// mapped or copied).
 fn padded(bytes: u64) -> u64 {
     bytes.div_ceil(wgpu::COPY_BUFFER_ALIGNMENT).max(1) * wgpu::COPY_BUFFER_ALIGNMENT
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::compute::Aabb;
-    use crate::compute::parity::run_on_gpu;
-
-    fn context(backend: &crate::compute::Backend) -> &GpuContext {
-        backend.gpu().expect("run_on_gpu passes a GPU backend")
-    }
-
-    #[test]
-    fn upload_then_read_back_round_trips_any_length() {
-        run_on_gpu(|backend| {
-            let gpu = context(backend);
-            for len in [0usize, 1, 3, 1000] {
-                let bytes: Vec<u8> = (0..len).map(|i| (i * 37 % 251) as u8).collect();
-                let buffer = gpu.upload("bytes", &bytes).unwrap();
-                assert_eq!(gpu.read_back::<u8>(&buffer, len).unwrap(), bytes);
-                let words: Vec<u16> = (0..len).map(|i| (i * 7919) as u16).collect();
-                let buffer = gpu.upload("words", &words).unwrap();
-                assert_eq!(gpu.read_back::<u16>(&buffer, len).unwrap(), words);
-            }
-        });
-    }
-
-    #[test]
-    fn misuse_is_an_error_not_a_panic() {
-        run_on_gpu(|backend| {
-            let gpu = context(backend);
-            let small = gpu.upload("small", &[1u32, 2]).unwrap();
-            assert!(matches!(
-                gpu.read_back::<u32>(&small, 3),
-                Err(ComputeError::Gpu(_))
-            ));
-            assert_eq!(
-                gpu.dispatch("no_such_kernel", &[], 1),
-                Err(ComputeError::UnknownKernel("no_such_kernel".into()))
-            );
-            assert_eq!(
-                gpu.dispatch("triangle_bounds", &[&small], 1),
-                Err(ComputeError::BindingCount {
-                    kernel: "triangle_bounds",
-                    expected: 3,
-                    got: 1
-                })
-            );
-            // A 4-byte buffer cannot hold even one 32-byte box: wgpu's validation error comes back
-            // as a value instead of reaching the device's panicking default handler.
-            let positions = gpu.upload("positions", &[[0.0f32; 3]]).unwrap();
-            let triangles = gpu.upload("triangles", &[[0u32; 3]]).unwrap();
-            let result = gpu.dispatch("triangle_bounds", &[&positions, &triangles, &small], 1);
-            assert!(matches!(result, Err(ComputeError::Gpu(_))), "{result:?}");
-            let too_many = gpu.max_binding_len::<Aabb>() + 1;
-            assert!(matches!(
-                gpu.output::<Aabb>("huge", too_many),
-                Err(ComputeError::BufferTooLarge { .. })
-            ));
-        });
-    }
 }

@@ -17,8 +17,6 @@ pub enum ComputeError {
     Device { adapter: String, message: String },
     #[error("unknown backend {0:?}: expected auto, cpu or gpu")]
     UnknownBackend(String),
-    #[error("unknown kernel {0:?}: not in the kernel registry")]
-    UnknownKernel(String),
     #[error(
         "kernel {kernel:?} takes {expected} buffers (one per binding in the registry), got {got}"
     )]

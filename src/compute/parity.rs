@@ -10,7 +10,7 @@ use std::sync::OnceLock;
 
 use glam::Vec3;
 
-use super::{Aabb, Backend, BackendChoice, ComputeError};
+use super::{Backend, BackendChoice, ComputeError};
 
 /// Set to `1` to make a missing GPU adapter fail GPU tests instead of skipping them (CI sets it,
 /// so the GPU path can never go untested unnoticed).
@@ -64,7 +64,7 @@ impl fmt::Display for Scalar {
     }
 }
 
-/// A value a kernel produces, seen as named scalar lanes (`Aabb` has six: `min.x` … `max.z`).
+/// A value a kernel produces, seen as named scalar lanes (a box has six: `min.x` … `max.z`).
 pub trait ParityValue: Copy {
     /// Lane names, in order; `[""]` for a plain scalar.
     const LANES: &'static [&'static str];
@@ -96,13 +96,6 @@ impl ParityValue for Vec3 {
     const LANES: &'static [&'static str] = &["x", "y", "z"];
     fn lane(&self, k: usize) -> Scalar {
         Scalar::F32(self[k])
-    }
-}
-
-impl ParityValue for Aabb {
-    const LANES: &'static [&'static str] = &["min.x", "min.y", "min.z", "max.x", "max.y", "max.z"];
-    fn lane(&self, k: usize) -> Scalar {
-        Scalar::F32(if k < 3 { self.min[k] } else { self.max[k - 3] })
     }
 }
 
@@ -339,14 +332,5 @@ mod tests {
         assert!(report.differences().is_empty());
         let message = panic_message(|| report.assert_max_abs_lt(1.0));
         assert!(message.contains("gpu has 1, cpu has 2"), "{message}");
-    }
-
-    #[test]
-    fn aabb_lanes_name_their_corner() {
-        let a = Aabb::new(Vec3::ZERO, Vec3::ONE);
-        let b = Aabb::new(Vec3::ZERO, Vec3::new(1.0, 1.0, 3.0));
-        let message =
-            panic_message(|| ParityReport::gpu_vs_cpu("boxes", &[a], &[b]).assert_identical());
-        assert!(message.contains("[0].max.z"), "{message}");
     }
 }

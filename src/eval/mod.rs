@@ -9,16 +9,19 @@ mod checker;
 mod distance;
 mod drift;
 mod error;
+mod options;
 mod quality;
 mod report;
 mod run;
 
+pub use crate::geometry::ANGLE_BUCKETS;
 pub use checker::{PURE_TOLERANCE, pure_share};
 pub use distance::{
     SurfaceDistances, labelled_surface_samples, surface_distances, surface_samples,
 };
 pub use drift::{Drift, MaterialPoints};
 pub use error::EvalError;
-pub use quality::{ANGLE_BUCKETS, ASPECT_BUCKETS, TriangleQuality, triangle_quality};
+pub use options::EvalOptions;
+pub use quality::{ASPECT_BUCKETS, TriangleQuality, triangle_quality};
 pub use report::{EvalReport, FrameReport, LostTotals, Summary};
-pub use run::{EvalOptions, evaluate};
+pub use run::evaluate;

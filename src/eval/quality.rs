@@ -1,11 +1,10 @@
 //! Triangle quality of a tracked frame: the minimum-angle criterion mesh improvement enforces (paper
 //! §4.1: 10°) and the aspect ratio, as histograms.
 
+use crate::geometry::{ANGLE_BUCKETS, bucket};
 use crate::mesh::{IndexedMesh, aspect_ratio, min_angle_degrees};
 use serde::Serialize;
 
-/// Upper ends of the minimum-angle buckets in degrees; the last bucket (≥ 50°) is open.
-pub const ANGLE_BUCKETS: [f32; 6] = [5.0, 10.0, 20.0, 30.0, 40.0, 50.0];
 /// Upper ends of the aspect-ratio buckets (1 = equilateral); the last bucket (≥ 10) is open.
 pub const ASPECT_BUCKETS: [f32; 5] = [1.5, 2.0, 3.0, 5.0, 10.0];
 
@@ -22,10 +21,6 @@ pub struct TriangleQuality {
     pub min_angle_histogram: Vec<usize>,
     /// Triangles per `ASPECT_BUCKETS` bucket (one more for the rest).
     pub aspect_histogram: Vec<usize>,
-}
-
-fn bucket(edges: &[f32], x: f32) -> usize {
-    edges.iter().take_while(|&&e| x >= e).count()
 }
 
 /// Measures every triangle of `mesh`; `threshold` is the minimum angle (degrees) counted as good.
@@ -70,7 +65,7 @@ mod tests {
         assert!((q.min_angle - 60.0).abs() < 1e-3);
         assert!((q.max_aspect - 1.0).abs() < 1e-4);
         assert_eq!(q.above_threshold, 1.0);
-        assert_eq!(q.min_angle_histogram[6], 20);
+        assert_eq!(q.min_angle_histogram[ANGLE_BUCKETS.len()], 20);
         assert_eq!(q.aspect_histogram[0], 20);
 
         let sliver = IndexedMesh::new(
@@ -79,7 +74,7 @@ mod tests {
         );
         let q = triangle_quality(&sliver, 10.0);
         assert_eq!(q.above_threshold, 0.0);
-        assert_eq!(q.min_angle_histogram[0], 1);
+        assert_eq!(q.min_angle_histogram[1], 1);
         assert_eq!(q.aspect_histogram[5], 1);
     }
 }

@@ -3,7 +3,8 @@
 use super::EvalOptions;
 use super::distance::SurfaceDistances;
 use super::drift::Drift;
-use super::quality::{ANGLE_BUCKETS, ASPECT_BUCKETS, TriangleQuality};
+use super::quality::{ASPECT_BUCKETS, TriangleQuality};
+use crate::geometry::ANGLE_BUCKETS;
 use crate::track::StageChurn;
 use serde::Serialize;
 use std::fmt::Write;

@@ -10,6 +10,8 @@
 
 use rayon::prelude::*;
 
+use super::sparse::row_starts;
+
 /// Rows along x: `(z, y)` keys in increasing order, each with its runs in `runs[starts[r]..]`.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub(crate) struct RowSet<R> {
@@ -28,13 +30,7 @@ impl<R: Clone> RowSet<R> {
     }
 
     fn from_lists(keys: Vec<[i32; 2]>, lists: Vec<Vec<R>>) -> Self {
-        let mut starts = Vec::with_capacity(keys.len() + 1);
-        let mut n = 0u32;
-        starts.push(0);
-        for l in &lists {
-            n += l.len() as u32;
-            starts.push(n);
-        }
+        let starts = row_starts(lists.iter().map(|l| l.len() as u32));
         Self {
             keys,
             starts,

@@ -214,14 +214,8 @@ mod tests {
         for config in 1..255u8 {
             let inside = |c: usize| config & (1 << c) != 0;
             for t in &cell_case(config).triangles {
-                let [a, b, c] = t.map(midpoint);
-                let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-                let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-                let normal = [
-                    u[1] * v[2] - u[2] * v[1],
-                    u[2] * v[0] - u[0] * v[2],
-                    u[0] * v[1] - u[1] * v[0],
-                ];
+                let [a, b, c] = t.map(|e| glam::DVec3::from_array(midpoint(e)));
+                let normal = (b - a).cross(c - a).to_array();
                 // Each crossed edge points from its inside corner to its outside corner; the surface
                 // must face along the sum of those directions at its three vertices.
                 let mut outward = [0.0f64; 3];

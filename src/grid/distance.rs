@@ -8,48 +8,18 @@
 //! band are searched and stored: the candidates are the surface's footprint dilated by the band's
 //! width ([`super::band`]), never a dense box.
 
-use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 
 use super::RasterError;
 use super::band::{Rows, dilated_corners};
-use super::distance_cpu::distance_cpu;
-use super::distance_gpu::GpuDistance;
+use super::cpu::distance_tiled::distance_tiled;
+use super::gpu::GpuDistance;
 use super::lattice::LatticeMesh;
 use super::sparse::GridLine;
 use super::sweep::Windings;
 use super::triangle_tree::TriangleTree;
 use crate::compute::Backend;
-use crate::compute::registry::{GpuStructLayout, SharedWgsl};
-
-/// The nearest triangle slot of one corner and its squared distance in cells; `slot` is
-/// [`Nearest::NONE`] when no triangle lies within the band.
-///
-/// Mirrors `struct Nearest` in `kernels/shared/distance.wgsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct Nearest {
-    pub distance_squared: f32,
-    pub slot: u32,
-}
-
-impl Nearest {
-    pub const NONE: u32 = u32::MAX;
-
-    /// The layout the WGSL mirror must have, checked against naga in `tests/kernels_validate.rs`.
-    pub const LAYOUT: GpuStructLayout = GpuStructLayout {
-        name: "Nearest",
-        wgsl: &SharedWgsl::DISTANCE,
-        size: size_of::<Self>(),
-        members: &[
-            (
-                "distance_squared",
-                core::mem::offset_of!(Self, distance_squared),
-            ),
-            ("slot", core::mem::offset_of!(Self, slot)),
-        ],
-    };
-}
+use crate::kernels::shared::{BandChunk, BandTile, Nearest};
 
 /// Signed distances at every corner within `half_width` cells of the surface.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -126,7 +96,7 @@ pub fn signed_distance(
     let nearest = match backend {
         Backend::Cpu => {
             let (chunks, tiles) = tiles(&rows, CPU_CHUNK_LEN)?;
-            distance_cpu(&tree, &chunks, &tiles, bound)
+            distance_tiled(&tree, &chunks, &tiles, bound)
         }
         Backend::Gpu(context) => {
             let chunks = chunks(&rows, GPU_CHUNK_LEN)?;
@@ -151,56 +121,6 @@ const GPU_CHUNK_LEN: i32 = 4;
 
 /// Rows of a tile along y and along z.
 pub(crate) const TILE_ROWS: i32 = 2;
-
-/// Corners `first + (i, 0, 0)` for `i < len`, whose results go to `out + i`: the part of one row of
-/// candidate corners that lies in one tile.
-///
-/// Mirrors `struct BandChunk` in `kernels/shared/distance.wgsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
-pub struct BandChunk {
-    pub first: [i32; 3],
-    pub len: u32,
-    pub out: u32,
-}
-
-impl BandChunk {
-    /// The layout the WGSL mirror must have, checked against naga in `tests/kernels_validate.rs`.
-    pub const LAYOUT: GpuStructLayout = GpuStructLayout {
-        name: "BandChunk",
-        wgsl: &SharedWgsl::DISTANCE,
-        size: size_of::<Self>(),
-        members: &[
-            ("first", core::mem::offset_of!(Self, first)),
-            ("len", core::mem::offset_of!(Self, len)),
-            ("out", core::mem::offset_of!(Self, out)),
-        ],
-    };
-}
-
-/// The chunks `first .. first + count` (in tile order) of one tile: up to a chunk's length ×
-/// [`TILE_ROWS`] × [`TILE_ROWS`] candidate corners whose triangles are gathered once.
-///
-/// Mirrors `struct BandTile` in `kernels/shared/distance.wgsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
-pub struct BandTile {
-    pub first: u32,
-    pub count: u32,
-}
-
-impl BandTile {
-    /// The layout the WGSL mirror must have, checked against naga in `tests/kernels_validate.rs`.
-    pub const LAYOUT: GpuStructLayout = GpuStructLayout {
-        name: "BandTile",
-        wgsl: &SharedWgsl::DISTANCE,
-        size: size_of::<Self>(),
-        members: &[
-            ("first", core::mem::offset_of!(Self, first)),
-            ("count", core::mem::offset_of!(Self, count)),
-        ],
-    };
-}
 
 /// The candidate rows cut into chunks at multiples of `chunk_len`, in row order, results numbered
 /// in that order.
@@ -320,4 +240,52 @@ fn sign_and_keep(
         band.nearest.push(id);
     }
     band
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+    use crate::grid::cpu::distance::distance_cpu;
+    use crate::grid::{GridFrame, edge_faces, footprint, rasterize};
+    use crate::mesh::IndexedMesh;
+
+    /// The variant finds the twin's minimum at every corner, bit for bit, whether a tile gathers
+    /// all its triangles or falls back to one search per corner.
+    #[test]
+    fn the_tiled_variant_agrees_with_the_kernel_twin() {
+        let meshes = [
+            IndexedMesh::torus(1.0, 0.35, 48, 24),
+            IndexedMesh::icosphere(Vec3::new(0.1, -0.2, 0.3), 0.8, 3),
+        ];
+        for (mesh, factor, half_width) in [(&meshes[0], 1.0, 3.0), (&meshes[1], 0.3, 9.0)] {
+            let frame = GridFrame::for_mesh(mesh, factor).unwrap();
+            let lattice = LatticeMesh::new(frame, mesh).unwrap();
+            let crossings = rasterize(&Backend::Cpu, &lattice).unwrap();
+            let cells = footprint(&lattice, &crossings, &edge_faces(&lattice));
+            let rows = dilated_corners(&cells, half_width);
+            let tree = TriangleTree::build(&lattice);
+            let bound = half_width * half_width;
+            for chunk_len in [1, 4, 8] {
+                let (chunks, tiles) = tiles(&rows, chunk_len).unwrap();
+                let twin = distance_cpu(&tree, &chunks, &tiles, bound);
+                let variant = distance_tiled(&tree, &chunks, &tiles, bound);
+                assert_eq!(twin.len(), variant.len());
+                let differing: Vec<usize> = (0..twin.len())
+                    .filter(|&i| {
+                        twin[i].distance_squared.to_bits() != variant[i].distance_squared.to_bits()
+                            || (twin[i].slot == Nearest::NONE) != (variant[i].slot == Nearest::NONE)
+                    })
+                    .collect();
+                assert!(
+                    differing.is_empty(),
+                    "chunks of {chunk_len}: {} of {} corners differ, first {:?}",
+                    differing.len(),
+                    twin.len(),
+                    &differing[..differing.len().min(8)]
+                );
+            }
+        }
+    }
 }

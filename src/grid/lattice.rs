@@ -9,29 +9,14 @@
 //! that from the surface keeps its inside/outside answer. When the input coordinates carry fewer
 //! bits than the lattice (a mesh far from the world origin, or on a dyadic grid) the snap is exact.
 
-use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use rayon::prelude::*;
 
 use super::RasterError;
-use crate::compute::registry::{GpuStructLayout, SharedWgsl};
+use crate::kernels::shared::{
+    CELL_UNITS, FRACTION_BITS, LatticePoint, MAX_CELL_INDEX, MAX_TRIANGLE_SPAN,
+};
 use crate::mesh::IndexedMesh;
-
-/// Fractional bits of a lattice coordinate: a cell is `2^FRACTION_BITS` lattice units wide.
-pub const FRACTION_BITS: u32 = 20;
-
-/// Lattice units per cell.
-pub const CELL_UNITS: i64 = 1 << FRACTION_BITS;
-
-/// Largest extent of one triangle along any axis, in cells. Within one triangle the predicates work
-/// on offsets from the triangle's lowest cell, which then fit in 31 bits: products of two offsets
-/// fit in `i64` and the orientation of a corner against the triangle's plane fits in `i128`.
-pub const MAX_TRIANGLE_SPAN: i64 = (1i64 << (31 - FRACTION_BITS)) - 1;
-
-/// Largest cell index in absolute value. Cell indices and their differences are then exact in f32,
-/// which the distance computation relies on, and a cell one step beyond any vertex's still packs
-/// into 21 bits per axis ([`cell_key`]).
-pub const MAX_CELL_INDEX: i32 = (1 << 20) - 2;
 
 /// A cell as one sortable integer: ordering keys orders cells by `(z, y, x)`.
 pub fn cell_key(c: [i32; 3]) -> u64 {
@@ -121,46 +106,6 @@ impl GridFrame {
     }
 }
 
-/// A point of the fixed lattice: cell index (floor of the grid coordinate) and fraction within the
-/// cell in units of `2^-FRACTION_BITS` (always below `CELL_UNITS`).
-///
-/// The cell is the one the point lies in under the grid's symbolic perturbation (the mesh shifted by
-/// `(ε, ε², ε³)`, see [`super::predicates`]): a point exactly on the plane `x = i` belongs to cell `i`,
-/// as `floor` says. Mirrors `struct LatticePoint` in `kernels/shared/lattice.wgsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Pod, Zeroable)]
-pub struct LatticePoint {
-    pub cell: [i32; 3],
-    pub frac: [u32; 3],
-}
-
-impl LatticePoint {
-    /// Coordinate along `axis` in lattice units.
-    pub fn units(&self, axis: usize) -> i64 {
-        i64::from(self.cell[axis]) * CELL_UNITS + i64::from(self.frac[axis])
-    }
-
-    /// Offset from the corner `corner`, in cells, rounded once to f32 (the same operations as the
-    /// distance kernel, so both read identical bits).
-    pub fn offset_from(&self, corner: [i32; 3]) -> Vec3 {
-        let scale = 1.0 / CELL_UNITS as f32;
-        Vec3::from_array(std::array::from_fn(|a| {
-            (self.cell[a] - corner[a]) as f32 + self.frac[a] as f32 * scale
-        }))
-    }
-
-    /// The layout the WGSL mirror must have, checked against naga in `tests/kernels_validate.rs`.
-    pub const LAYOUT: GpuStructLayout = GpuStructLayout {
-        name: "LatticePoint",
-        wgsl: &SharedWgsl::LATTICE,
-        size: size_of::<Self>(),
-        members: &[
-            ("cell", core::mem::offset_of!(Self, cell)),
-            ("frac", core::mem::offset_of!(Self, frac)),
-        ],
-    };
-}
-
 /// A triangle mesh in grid index space: the input of every rasterization stage.
 ///
 /// Built once per frame; construction snaps every vertex to the lattice and checks that every
@@ -244,17 +189,18 @@ fn check_triangle(
         });
     }
     let (lo, hi) = cell_range(&tri.map(|v| points[v as usize]));
-    for axis in 0..3 {
-        let span = i64::from(hi[axis]) - i64::from(lo[axis]);
-        if span > MAX_TRIANGLE_SPAN {
-            return Err(RasterError::TriangleTooLarge {
-                triangle,
-                axis,
-                span,
-            });
-        }
+    let spans = (0..3).map(|axis| (axis, i64::from(hi[axis]) - i64::from(lo[axis])));
+    match spans
+        .into_iter()
+        .find(|&(_, span)| span > MAX_TRIANGLE_SPAN)
+    {
+        Some((axis, span)) => Err(RasterError::TriangleTooLarge {
+            triangle,
+            axis,
+            span,
+        }),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 #[cfg(test)]

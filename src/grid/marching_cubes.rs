@@ -10,6 +10,7 @@
 use super::ScalarGrid;
 use super::cases::cell_case;
 use super::inside_bits::{InsideBits, bit, bit_pair, x_crossings};
+use super::sparse::row_starts;
 use crate::mesh::IndexedMesh;
 use glam::Vec3;
 use rayon::prelude::*;
@@ -97,13 +98,7 @@ impl Numbering {
                 next
             })
             .collect();
-        let mut plane_base = Vec::with_capacity(nz + 1);
-        let mut total = 0u32;
-        plane_base.push(0);
-        for count in counts {
-            total += count;
-            plane_base.push(total);
-        }
+        let plane_base = row_starts(counts);
         Self {
             plane_base,
             x_rank,

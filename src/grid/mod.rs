@@ -11,39 +11,37 @@ mod marching_cubes;
 mod scalar_grid;
 
 pub use marching_cubes::{T_MIN, marching_cubes};
+pub(crate) use scalar_grid::sample_box;
 pub use scalar_grid::{GridError, MAX_CORNERS, ScalarGrid};
 
 mod band;
-mod crossing;
+pub mod cpu;
 mod distance;
-mod distance_cpu;
-mod distance_gpu;
+mod gpu;
 mod lattice;
 mod overlap;
 mod predicates;
 mod raster_error;
 mod rasterize;
-mod rasterize_gpu;
 mod sparse;
 mod sweep;
-mod sweep_gpu;
 mod triangle_tree;
 
-pub use crossing::GridCrossing;
-pub use distance::{BandChunk, BandTile, NarrowBand, Nearest, signed_distance};
-pub use distance_gpu::DistanceParams;
-pub use lattice::{
-    CELL_UNITS, FRACTION_BITS, GridFrame, LatticeMesh, LatticePoint, MAX_CELL_INDEX,
-    MAX_TRIANGLE_SPAN, cell_key, key_cell,
+pub use crate::kernels::shared::{
+    BandChunk, BandTile, CELL_UNITS, DistanceParams, FRACTION_BITS, GridCrossing, LatticePoint,
+    MAX_CELL_INDEX, MAX_TRIANGLE_SPAN, Nearest, TreeNode, TreeTriangle, TriangleBox, WindingRun,
 };
+pub use distance::{NarrowBand, signed_distance};
+pub use gpu::{GpuRasterize, GpuSweep};
+pub use lattice::{GridFrame, LatticeMesh, cell_key, key_cell};
 pub use overlap::{
     EdgeFace, TriangleCells, cells_around, edge_faces, footprint, mesh_edges, triangle_cells,
 };
 pub use predicates::cross_axes;
+pub(crate) use predicates::{last_above, segment_sign};
 pub use raster_error::RasterError;
 pub use rasterize::rasterize;
-pub use rasterize_gpu::GpuRasterize;
+pub(crate) use sparse::row_starts;
 pub use sparse::{Crossings, GridLine, LineIndex};
-pub use sweep::{CornerWindings, WindingRun, Windings, sweep};
-pub use sweep_gpu::GpuSweep;
-pub use triangle_tree::{TreeNode, TreeTriangle, TriangleBox};
+pub use sweep::{CornerWindings, Windings, sweep};
+pub use triangle_tree::TriangleTree;

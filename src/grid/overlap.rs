@@ -10,10 +10,10 @@
 
 use rayon::prelude::*;
 
-use super::crossing::GridCrossing;
 use super::lattice::{LatticeMesh, cell_key, key_cell};
 use super::predicates::{LocalSegment, cross_axes};
-use super::sparse::Crossings;
+use super::sparse::{Crossings, row_starts};
+use crate::kernels::shared::GridCrossing;
 
 /// A mesh edge piercing a cell face: a "type 2" point of the cut.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -148,13 +148,7 @@ pub fn triangle_cells(
             cells
         })
         .collect();
-    let mut starts = Vec::with_capacity(lists.len() + 1);
-    let mut n = 0u32;
-    starts.push(0);
-    for l in &lists {
-        n += l.len() as u32;
-        starts.push(n);
-    }
+    let starts = row_starts(lists.iter().map(|l| l.len() as u32));
     TriangleCells {
         starts,
         cells: lists.into_iter().flatten().collect(),

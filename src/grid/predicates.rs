@@ -18,13 +18,26 @@
 
 use std::cmp::Ordering;
 
-use super::crossing::GridCrossing;
-use super::lattice::{CELL_UNITS, FRACTION_BITS, LatticePoint, cell_range};
+use super::lattice::cell_range;
+use crate::kernels::shared::GridCrossing;
+use crate::kernels::shared::{CELL_UNITS, FRACTION_BITS, LatticePoint};
 
 /// The two axes of the plane across lines along `axis`, in cyclic order: `(y, z)`, `(z, x)`, `(x, y)`.
 /// With this order the 2-D cross product of the projection is the normal's `axis` component.
 pub const fn cross_axes(axis: usize) -> (usize, usize) {
     ((axis + 1) % 3, (axis + 2) % 3)
+}
+
+/// Number of candidate lines of a triangle with vertex cells `lo..=hi`, per axis.
+///
+/// A line along `axis` can meet the perturbed triangle only when it lies strictly inside the
+/// projected bounding box, shifted by `-δ`: its cells along the two other axes are in
+/// `lo + 1 ..= hi`.
+pub(crate) fn candidate_counts(lo: [i32; 3], hi: [i32; 3]) -> [u64; 3] {
+    std::array::from_fn(|axis| {
+        let (u, v) = cross_axes(axis);
+        (hi[u] - lo[u]) as u64 * (hi[v] - lo[v]) as u64
+    })
 }
 
 /// Sign of `x` as -1, 0 or 1.
@@ -40,6 +53,38 @@ fn first_sign(values: &[i64]) -> i32 {
         .map(|&v| sign(v))
         .find(|&s| s != 0)
         .unwrap_or(0)
+}
+
+/// The sign of a predicate on a segment and the planes of axes `a` and `b` (`a != b`) whose exact
+/// value has sign `exact`: when that is 0, the perturbation decides. The tie is
+/// `−d_b ε^(a+1) + d_a ε^(b+1)`, read lower power first, where `d_a`, `d_b` are the signs of the
+/// segment's extent along each axis. The rasterizer's mesh edges and the topology step's cut
+/// share it, so both see one configuration.
+pub(crate) fn segment_sign(exact: i32, a: usize, b: usize, d_a: i32, d_b: i32) -> i32 {
+    if exact != 0 {
+        exact
+    } else if a < b {
+        if d_b != 0 { -d_b } else { d_a }
+    } else if d_a != 0 {
+        d_a
+    } else {
+        -d_b
+    }
+}
+
+/// The largest `x` in `lo..=hi` for which `above(x)` holds, `lo` when none past it does, for an
+/// `above` that holds up to some index and fails beyond it: the cell where a segment or a grid
+/// line leaves the range `lo..=hi`, found by bisection.
+pub(crate) fn last_above(mut lo: i32, mut hi: i32, above: impl Fn(i32) -> bool) -> i32 {
+    while lo < hi {
+        let mid = lo + (hi - lo + 1) / 2;
+        if above(mid) {
+            lo = mid;
+        } else {
+            hi = mid - 1;
+        }
+    }
+    lo
 }
 
 /// A triangle with its corners as lattice offsets from its lowest cell (`base`).
@@ -156,15 +201,7 @@ pub(crate) fn line_crossing(
         q
     };
     let past = |i: i32| plane_side(n, a, corner_at(i)).1 == want;
-    let (mut lo, mut hi) = (tri.base[axis], hi_along);
-    while lo < hi {
-        let mid = lo + (hi - lo + 1) / 2;
-        if past(mid) {
-            lo = mid;
-        } else {
-            hi = mid - 1;
-        }
-    }
+    let lo = last_above(tri.base[axis], hi_along, past);
     let (s, _) = plane_side(n, a, corner_at(lo));
     let t = crossing_fraction(s as f32, d as f32);
     let mut corner = [0; 3];
@@ -216,14 +253,7 @@ impl LocalSegment {
         let i = i64::from(self.plane(axis, plane));
         let j = i64::from(self.plane(other, other_plane));
         let k = (i64::from(self.p[other]) - j) * d[axis] + d[other] * (i - i64::from(self.p[axis]));
-        let s = if k != 0 {
-            sign(k)
-        } else if other < axis {
-            first_sign(&[d[axis], -d[other]])
-        } else {
-            first_sign(&[-d[other], d[axis]])
-        };
-        s * sign(d[axis]) > 0
+        segment_sign(sign(k), axis, other, sign(d[axis]), sign(d[other])) * sign(d[axis]) > 0
     }
 
     /// The cell face that the segment pierces on plane `plane` of `axis`: the cell just above the
@@ -234,19 +264,9 @@ impl LocalSegment {
         cell[axis] = plane;
         let (u, v) = cross_axes(axis);
         for other in [u, v] {
-            let (mut lo, mut hi) = (
-                self.cell_p[other].min(self.cell_q[other]),
-                self.cell_p[other].max(self.cell_q[other]),
-            );
-            while lo < hi {
-                let mid = lo + (hi - lo + 1) / 2;
-                if self.past(axis, plane, other, mid) {
-                    lo = mid;
-                } else {
-                    hi = mid - 1;
-                }
-            }
-            cell[other] = lo;
+            let lo = self.cell_p[other].min(self.cell_q[other]);
+            let hi = self.cell_p[other].max(self.cell_q[other]);
+            cell[other] = last_above(lo, hi, |mid| self.past(axis, plane, other, mid));
         }
         cell
     }
@@ -262,14 +282,8 @@ impl LocalSegment {
         let i = i64::from(self.plane(a, i)) - i64::from(self.p[a]);
         let j = i64::from(self.plane(b, j)) - i64::from(self.p[b]);
         let n = i * d[b] - j * d[a];
-        let s = if n != 0 {
-            sign(n)
-        } else if a < b {
-            first_sign(&[-d[b], d[a]])
-        } else {
-            first_sign(&[d[a], -d[b]])
-        };
-        (s * sign(d[a]) * sign(d[b])).cmp(&0)
+        let (d_a, d_b) = (sign(d[a]), sign(d[b]));
+        (segment_sign(sign(n), a, b, d_a, d_b) * d_a * d_b).cmp(&0)
     }
 
     /// Parameter of the crossing with plane `plane` of `axis` along the segment, in `(0, 1)`.

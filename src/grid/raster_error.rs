@@ -1,7 +1,7 @@
 use thiserror::Error;
 
-use super::lattice::{MAX_CELL_INDEX, MAX_TRIANGLE_SPAN};
 use crate::compute::ComputeError;
+use crate::kernels::shared::{MAX_CELL_INDEX, MAX_TRIANGLE_SPAN};
 
 /// Why a mesh could not be rasterized, swept or turned into a distance field.
 ///

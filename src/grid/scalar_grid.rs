@@ -71,20 +71,9 @@ impl ScalarGrid {
         F: Fn(Vec3) -> f32 + Sync,
     {
         let count = Self::check_shape(origin, spacing, dims)?;
-        let mut values = vec![0.0f32; count];
-        let plane = dims[0] * dims[1];
-        if plane > 0 {
-            values
-                .par_chunks_mut(plane)
-                .enumerate()
-                .for_each(|(k, slice)| {
-                    for (n, value) in slice.iter_mut().enumerate() {
-                        let (i, j) = (n % dims[0], n / dims[0]);
-                        let corner = Vec3::new(i as f32, j as f32, k as f32);
-                        *value = field(origin + spacing * corner);
-                    }
-                });
-        }
+        let values = sample_box(dims, count, |[i, j, k]| {
+            field(origin + spacing * Vec3::new(i as f32, j as f32, k as f32))
+        });
         Ok(Self {
             origin,
             spacing,
@@ -139,6 +128,28 @@ impl ScalarGrid {
     pub fn corner_position(&self, i: usize, j: usize, k: usize) -> Vec3 {
         self.origin + self.spacing * Vec3::new(i as f32, j as f32, k as f32)
     }
+}
+
+/// `f` at every corner `[i, j, k]` of a box of `dims` corners (`count` in all), x fastest, one z
+/// plane per task.
+pub(crate) fn sample_box(
+    dims: [usize; 3],
+    count: usize,
+    f: impl Fn([usize; 3]) -> f32 + Sync,
+) -> Vec<f32> {
+    let mut values = vec![0.0f32; count];
+    let plane = dims[0] * dims[1];
+    if plane > 0 {
+        values
+            .par_chunks_mut(plane)
+            .enumerate()
+            .for_each(|(k, slice)| {
+                for (n, value) in slice.iter_mut().enumerate() {
+                    *value = f([n % dims[0], n / dims[0], k]);
+                }
+            });
+    }
+    values
 }
 
 #[cfg(test)]

@@ -10,8 +10,20 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
-use super::crossing::GridCrossing;
 use super::predicates::cross_axes;
+use crate::kernels::shared::GridCrossing;
+
+/// Where each row of a concatenation of rows with `counts` items starts, and where the last one
+/// ends: the prefix sums of `counts` from 0 (compressed rows).
+pub(crate) fn row_starts(counts: impl IntoIterator<Item = u32>) -> Vec<u32> {
+    let mut n = 0u32;
+    std::iter::once(0)
+        .chain(counts.into_iter().map(|c| {
+            n += c;
+            n
+        }))
+        .collect()
+}
 
 /// The corners that differ only along `axis`: the line through cells `at` of the two other axes,
 /// in [`cross_axes`] order (`(y, z)` for x lines, `(z, x)` for y lines, `(x, y)` for z lines).
@@ -81,13 +93,7 @@ impl LineIndex {
 
     /// The same lines with new ranges: `counts[l]` items for line `l`.
     pub(crate) fn with_counts(&self, counts: impl Iterator<Item = u32>) -> Self {
-        let mut starts = Vec::with_capacity(self.starts.len());
-        let mut n = 0u32;
-        starts.push(0);
-        for c in counts {
-            n += c;
-            starts.push(n);
-        }
+        let starts = row_starts(counts);
         Self {
             lines: self.lines.clone(),
             starts,

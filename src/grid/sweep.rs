@@ -3,7 +3,8 @@
 //! above 1 or below 0 lie where the surface overlaps or is inverted: `ConstrainTopology(M, Φ(M))`
 //! resolves those (paper §4.3).
 //!
-//! Kernel: `kernels/sweep.wgsl`. Both backends run one pass per line over its sorted crossings and
+//! Kernel: `kernels/sweep.wgsl`, its CPU twin `cpu/sweep.rs`, its GPU host `gpu/sweep.rs`. Both
+//! backends run one pass per line over its sorted crossings and
 //! write, for the last crossing of each grid edge, the run of constant winding that starts at the
 //! edge's upper corner. A line is then a handful of runs and a line without crossings is empty
 //! space (winding 0), so every corner of the unbounded grid is classified, far ones included, with
@@ -14,41 +15,14 @@
 //! line of a closed mesh, and the three axes give the same winding at every corner. Those two facts
 //! are checked by [`Windings::unbalanced_lines`] and [`CornerWindings::consistent`].
 
-use bytemuck::{Pod, Zeroable};
 use rayon::prelude::*;
 
 use super::RasterError;
+use super::cpu::sweep::sweep_cpu;
+use super::gpu::GpuSweep;
 use super::sparse::{Crossings, GridLine, LineIndex};
-use super::sweep_gpu::GpuSweep;
 use crate::compute::Backend;
-use crate::compute::registry::{GpuStructLayout, SharedWgsl};
-
-/// Corners of a line from `start` on (up to the next run) have winding number `winding`.
-///
-/// Mirrors `struct WindingRun` in `kernels/shared/crossing.wgsl`; the sweep kernel writes
-/// [`WindingRun::CONTINUES`] in the slot of a crossing that is not the last on its grid edge.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
-pub struct WindingRun {
-    pub start: i32,
-    pub winding: i32,
-}
-
-impl WindingRun {
-    /// `start` of a slot that starts no run (cell indices stay far from `i32::MIN`).
-    pub const CONTINUES: i32 = i32::MIN;
-
-    /// The layout the WGSL mirror must have, checked against naga in `tests/kernels_validate.rs`.
-    pub const LAYOUT: GpuStructLayout = GpuStructLayout {
-        name: "WindingRun",
-        wgsl: &SharedWgsl::CROSSING,
-        size: size_of::<Self>(),
-        members: &[
-            ("start", core::mem::offset_of!(Self, start)),
-            ("winding", core::mem::offset_of!(Self, winding)),
-        ],
-    };
-}
+use crate::kernels::shared::WindingRun;
 
 /// Sweeps every line of `crossings` into winding runs.
 ///
@@ -63,31 +37,6 @@ pub fn sweep(backend: &Backend, crossings: &Crossings) -> Result<Windings, Raste
         }
     };
     Ok(Windings::from_slots(crossings.index(), &slots))
-}
-
-/// CPU twin of `kernels/sweep.wgsl`: one closure call per kernel invocation (one line), writing one
-/// slot per crossing.
-fn sweep_cpu(crossings: &Crossings) -> Vec<WindingRun> {
-    (0..crossings.index().len())
-        .into_par_iter()
-        .with_min_len(64)
-        .flat_map_iter(|l| {
-            let line = crossings.of_line(l);
-            let mut winding = 0;
-            line.iter().enumerate().map(move |(k, c)| {
-                winding += c.sign();
-                let last_on_edge = line.get(k + 1).is_none_or(|next| next.along() != c.along());
-                WindingRun {
-                    start: if last_on_edge {
-                        c.along() + 1
-                    } else {
-                        WindingRun::CONTINUES
-                    },
-                    winding,
-                }
-            })
-        })
-        .collect()
 }
 
 /// The winding number of every grid corner, as runs along the lines that carry crossings.

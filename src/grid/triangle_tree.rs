@@ -8,11 +8,11 @@
 //! [`STACK_SIZE`] for any mesh that fits in memory) and laid out depth first, the left child
 //! right after its parent.
 
-use bytemuck::{Pod, Zeroable};
+use bytemuck::Zeroable;
 use rayon::prelude::*;
 
-use super::lattice::{CELL_UNITS, LatticeMesh, LatticePoint};
-use crate::compute::registry::{GpuStructLayout, SharedWgsl};
+use super::lattice::LatticeMesh;
+use crate::kernels::shared::{CELL_UNITS, LatticePoint, TreeNode, TreeTriangle, TriangleBox};
 
 /// Most triangles in a leaf.
 const LEAF_SIZE: usize = 4;
@@ -21,68 +21,7 @@ const LEAF_SIZE: usize = 4;
 /// deep.
 pub const STACK_SIZE: usize = 40;
 
-/// A node: interior (`count == 0`) with its left child next and its right child at `index`, or a
-/// leaf holding triangle slots `index .. index + count`. Box in cells from the tree's base cell.
-///
-/// Mirrors `struct TreeNode` in `kernels/shared/distance.wgsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct TreeNode {
-    pub min: [f32; 3],
-    pub index: u32,
-    pub max: [f32; 3],
-    pub count: u32,
-}
-
-/// A triangle in leaf order: its lowest cell, its index in the mesh, its corners as offsets from
-/// that cell in cells, and its plane: unit normal (zero when degenerate) and `normal · a`. The
-/// distance to the plane is a lower bound of the distance to the triangle, and often a tight one.
-///
-/// Mirrors `struct TreeTriangle` in `kernels/shared/distance.wgsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct TreeTriangle {
-    pub base: [i32; 3],
-    pub id: u32,
-    pub a: [f32; 3],
-    pub b: [f32; 3],
-    pub c: [f32; 3],
-    pub normal: [f32; 3],
-    pub offset: f32,
-}
-
-impl TreeNode {
-    /// The layout the WGSL mirror must have, checked against naga in `tests/kernels_validate.rs`.
-    pub const LAYOUT: GpuStructLayout = GpuStructLayout {
-        name: "TreeNode",
-        wgsl: &SharedWgsl::DISTANCE,
-        size: size_of::<Self>(),
-        members: &[
-            ("min", core::mem::offset_of!(Self, min)),
-            ("index", core::mem::offset_of!(Self, index)),
-            ("max", core::mem::offset_of!(Self, max)),
-            ("count", core::mem::offset_of!(Self, count)),
-        ],
-    };
-}
-
 impl TreeTriangle {
-    /// The layout the WGSL mirror must have, checked against naga in `tests/kernels_validate.rs`.
-    pub const LAYOUT: GpuStructLayout = GpuStructLayout {
-        name: "TreeTriangle",
-        wgsl: &SharedWgsl::DISTANCE,
-        size: size_of::<Self>(),
-        members: &[
-            ("base", core::mem::offset_of!(Self, base)),
-            ("id", core::mem::offset_of!(Self, id)),
-            ("a", core::mem::offset_of!(Self, a)),
-            ("b", core::mem::offset_of!(Self, b)),
-            ("c", core::mem::offset_of!(Self, c)),
-            ("normal", core::mem::offset_of!(Self, normal)),
-            ("offset", core::mem::offset_of!(Self, offset)),
-        ],
-    };
-
     /// Squared distance in cells from grid corner `corner`; the body the distance kernel shares.
     pub fn distance_squared(&self, corner: [i32; 3]) -> f32 {
         let p: [f32; 3] = std::array::from_fn(|k| (corner[k] - self.base[k]) as f32);
@@ -90,28 +29,7 @@ impl TreeTriangle {
     }
 }
 
-/// A triangle's bounding box in cells from the tree's base cell, rounded outwards; in leaf order.
-///
-/// Mirrors `struct TriangleBox` in `kernels/shared/distance.wgsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct TriangleBox {
-    pub min: [f32; 3],
-    pub max: [f32; 3],
-}
-
 impl TriangleBox {
-    /// The layout the WGSL mirror must have, checked against naga in `tests/kernels_validate.rs`.
-    pub const LAYOUT: GpuStructLayout = GpuStructLayout {
-        name: "TriangleBox",
-        wgsl: &SharedWgsl::DISTANCE,
-        size: size_of::<Self>(),
-        members: &[
-            ("min", core::mem::offset_of!(Self, min)),
-            ("max", core::mem::offset_of!(Self, max)),
-        ],
-    };
-
     /// Squared distance from `p` (cells from the tree's base) to the box, 0 inside.
     pub fn distance_squared(&self, p: [f32; 3]) -> f32 {
         box_distance_squared(self.min, self.max, p)

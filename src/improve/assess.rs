@@ -3,11 +3,9 @@
 
 use super::ImproveParams;
 use super::geometry::{dihedral_degrees, edge_extremes, face_normal, min_angle};
+use crate::geometry::{ANGLE_BUCKETS, bucket};
 use crate::mesh::IndexedMesh;
 use serde::Serialize;
-
-/// Upper ends of the minimum-angle histogram buckets (degrees); the last bucket is open.
-pub const ANGLE_BUCKETS: [f32; 8] = [2.0, 4.0, 6.0, 8.0, 10.0, 20.0, 30.0, 40.0];
 
 /// Upper ends of the edge-length histogram buckets, relative to the target length `L`.
 pub const LENGTH_BUCKETS: [f32; 8] = [0.125, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0];
@@ -16,9 +14,10 @@ pub const LENGTH_BUCKETS: [f32; 8] = [0.125, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0
 /// criterion is the parameters' `edge_ratio` (paper: 4).
 pub const RATIO_BUCKETS: [f32; 6] = [1.5, 2.0, 3.0, 4.0, 6.0, 8.0];
 
-/// One triangle's verdict.
+/// A triangle that fails the criteria, and by how much (the frame-level quality measure is
+/// `eval::TriangleQuality`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct TriangleQuality {
+pub struct FailingTriangle {
     pub triangle: usize,
     pub min_angle: f32,
     /// Shortest and longest edge relative to the target length.
@@ -48,7 +47,7 @@ pub struct Assessment {
     /// Edges per bucket of `LENGTH_BUCKETS` (one more for the rest).
     pub edge_length_histogram: Vec<usize>,
     /// The failing triangles, smallest angle first.
-    pub worst: Vec<TriangleQuality>,
+    pub worst: Vec<FailingTriangle>,
 }
 
 impl Assessment {
@@ -81,7 +80,6 @@ pub fn assess(mesh: &IndexedMesh, params: &ImproveParams) -> Assessment {
         edge_length_histogram: vec![0; LENGTH_BUCKETS.len() + 1],
         worst: Vec::new(),
     };
-    let bucket = |edges: &[f32], x: f32| edges.iter().take_while(|&&e| x >= e).count();
     for (t, tri) in mesh.triangles.iter().enumerate() {
         let p = tri.map(|v| mesh.positions[v as usize]);
         let angle = min_angle(p);
@@ -100,7 +98,7 @@ pub fn assess(mesh: &IndexedMesh, params: &ImproveParams) -> Assessment {
         out.edge_ratio_histogram[bucket(&RATIO_BUCKETS, proportion)] += 1;
         if small || ratio {
             out.failing += 1;
-            out.worst.push(TriangleQuality {
+            out.worst.push(FailingTriangle {
                 triangle: t,
                 min_angle: angle,
                 shortest: shortest / l,

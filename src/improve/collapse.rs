@@ -7,6 +7,7 @@
 //! behind, which the queue then fixes like any other, and guarding it blocks more fixes than it saves.
 
 use super::deviation::within;
+use super::diamond::diamond;
 use super::geometry::{face_normal, fold, folds_worse, reliable_normal};
 use super::params::Limits;
 use super::report::Refusal;
@@ -31,8 +32,7 @@ struct FanFace {
 /// a zero-length edge between two slivers could never be collapsed.
 pub(super) fn check_collapse(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<(), Refusal> {
     let t = mesh.twin(h);
-    let (a, b) = (mesh.origin(h), mesh.target(h));
-    let (c, d) = (mesh.origin(mesh.prev(h)), mesh.origin(mesh.prev(t)));
+    let [a, b, c, d] = diamond(mesh, h);
     if mesh.valence(c) <= 3 || mesh.valence(d) <= 3 {
         return Err(Refusal::Valence);
     }

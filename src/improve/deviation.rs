@@ -3,7 +3,7 @@
 //! distance bound is scale-free, applies to collapses as well, and bounds the swept volume by
 //! distance × area.
 
-use super::distance::point_triangle_distance;
+use crate::geometry::point_triangle_distance;
 use glam::Vec3;
 
 /// True when every sample of `new` lies within `limit` of some face of `old`, where `old[i]` (when it

@@ -4,6 +4,7 @@
 //! element and only kept when they raise the smallest angle of the pair.
 
 use super::deviation::within;
+use super::diamond::diamond;
 use super::geometry::{face_normal, fold, folds_worse, min_angle_sine, reliable_normal};
 use super::params::Limits;
 use super::report::Refusal;
@@ -17,8 +18,7 @@ const MIN_GAIN: f32 = 1e-5;
 /// Whether the edge of `h`, between faces `(a, b, c)` and `(b, a, d)`, may be flipped to `(c, d)`.
 pub(super) fn check_flip(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<(), Refusal> {
     let t = mesh.twin(h);
-    let (a, b) = (mesh.origin(h), mesh.target(h));
-    let (c, d) = (mesh.origin(mesh.prev(h)), mesh.origin(mesh.prev(t)));
+    let [a, b, c, d] = diamond(mesh, h);
     if mesh.valence(a) <= 3 || mesh.valence(b) <= 3 {
         return Err(Refusal::Valence);
     }
@@ -52,30 +52,26 @@ pub(super) fn check_flip(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<
     // new[0] = (d, c, a) borders the faces beyond (c, a) and (a, d); new[1] = (c, d, b) those
     // beyond (d, b) and (b, c). old[0] = (a, b, c) borders the faces beyond (b, c) and (c, a);
     // old[1] = (b, a, d) those beyond (a, d) and (d, b).
-    let sharpest = |pairs: [(Option<Vec3>, Option<Vec3>); 5]| {
-        pairs
-            .iter()
-            .map(|&(x, y)| fold(x, y).unwrap_or(-1.0))
-            .fold(-1.0f32, f32::max)
+    // The sharpest fold of the two faces `x`, `y` with each other and with their neighbours
+    // beyond: `x` with the first two of `beyond`, `y` with the last two.
+    let sharpest = |x: Option<Vec3>, y: Option<Vec3>, beyond: [Option<Vec3>; 4]| {
+        [
+            (x, y),
+            (x, beyond[0]),
+            (x, beyond[1]),
+            (y, beyond[2]),
+            (y, beyond[3]),
+        ]
+        .iter()
+        .map(|&(x, y)| fold(x, y).unwrap_or(-1.0))
+        .fold(-1.0f32, f32::max)
     };
     let [new0, new1] = new.map(reliable_normal);
-    let after = sharpest([
-        (new0, new1),
-        (new0, prev_h),
-        (new0, next_t),
-        (new1, prev_t),
-        (new1, next_h),
-    ]);
+    let after = sharpest(new0, new1, [prev_h, next_t, prev_t, next_h]);
     // The folds before the flip matter only when the new ones pass the limit.
     if after > limits.cos_min_dihedral {
         let [old0, old1] = old.map(reliable_normal);
-        let before = sharpest([
-            (old0, old1),
-            (old0, next_h),
-            (old0, prev_h),
-            (old1, next_t),
-            (old1, prev_t),
-        ]);
+        let before = sharpest(old0, old1, [next_h, prev_h, next_t, prev_t]);
         if folds_worse(after, before, limits.cos_min_dihedral) {
             return Err(Refusal::SharpDihedral);
         }

@@ -1,7 +1,7 @@
 //! Distance from points to a triangle mesh through a uniform hash grid, and the one-sided Hausdorff
 //! distance built on it: how far improvement moved the surface (improved → original).
 
-use super::distance::point_triangle_distance;
+use crate::geometry::point_triangle_distance;
 use crate::mesh::IndexedMesh;
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;

@@ -11,7 +11,7 @@
 mod assess;
 mod collapse;
 mod deviation;
-mod distance;
+mod diamond;
 mod error;
 mod fix;
 mod flip;
@@ -23,10 +23,8 @@ mod report;
 mod scan;
 mod split;
 
-pub use assess::{
-    ANGLE_BUCKETS, Assessment, LENGTH_BUCKETS, RATIO_BUCKETS, TriangleQuality, assess,
-};
-pub use distance::point_triangle_distance;
+pub use crate::geometry::{ANGLE_BUCKETS, point_triangle_distance};
+pub use assess::{Assessment, FailingTriangle, LENGTH_BUCKETS, RATIO_BUCKETS, assess};
 pub use error::ImproveError;
 pub use hausdorff::{SurfaceDistance, one_sided_hausdorff};
 pub use params::ImproveParams;

@@ -11,8 +11,8 @@
 use glam::{UVec3, Vec3A};
 use rayon::prelude::*;
 
-use super::BvhNode;
-use crate::compute::Aabb;
+use crate::kernels::shared::Aabb;
+use crate::kernels::shared::BvhNode;
 
 /// Deepest binary leaf below the root plus one. Every level of the 4-wide tree spans at least two
 /// binary levels, so it is at most `MAX_DEPTH / 2` deep, and a traversal, which keeps at most

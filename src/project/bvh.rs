@@ -1,12 +1,13 @@
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock, Weak};
 
 use rayon::prelude::*;
 
 use super::build::{self, MAX_LEAF, STACK_SIZE};
-use super::gpu::Resident;
+use super::gpu::GpuBvh;
 use super::shading::Shading;
-use super::{BvhChild, BvhNode, BvhTriangle, NormalTriple, ProjectError, PseudoNormals};
-use crate::compute::{Backend, ComputeError, triangle_bounds};
+use super::{ProjectError, triangle_bounds};
+use crate::compute::{Backend, ComputeError, GpuContext};
+use crate::kernels::shared::{BvhChild, BvhNode, BvhTriangle, NormalTriple, PseudoNormals};
 use crate::mesh::{IndexedMesh, MeshError};
 
 /// A bounding volume hierarchy over one target frame, with what the queries report at a hit.
@@ -22,7 +23,7 @@ pub struct Bvh {
     normals: Vec<NormalTriple>,
     pseudo: Vec<PseudoNormals>,
     mean_edge_length: f32,
-    pub(super) resident: OnceLock<Resident>,
+    resident: OnceLock<Resident>,
 }
 
 impl Bvh {
@@ -132,4 +133,43 @@ impl Bvh {
 
     /// Most triangles in one leaf.
     pub const MAX_LEAF_TRIANGLES: usize = MAX_LEAF;
+}
+
+/// The upload a [`Bvh`] keeps for the context it was first queried on. The weak reference both
+/// identifies the context and keeps its address from being reused while the upload lives.
+#[derive(Debug)]
+struct Resident {
+    context: Weak<GpuContext>,
+    bvh: GpuBvh,
+}
+
+impl Bvh {
+    /// This BVH's arrays on `context`'s device.
+    pub fn upload(&self, context: &GpuContext) -> Result<GpuBvh, ComputeError> {
+        GpuBvh::upload(
+            context,
+            &self.nodes,
+            &self.triangles,
+            &self.normals,
+            &self.pseudo,
+        )
+    }
+
+    /// This BVH on `context`'s device: uploaded on the first query there and kept; for any other
+    /// context it is uploaded for the one query.
+    pub(super) fn on_gpu(&self, context: &Arc<GpuContext>) -> Result<GpuBvh, ComputeError> {
+        if let Some(resident) = self.resident.get() {
+            if Weak::ptr_eq(&resident.context, &Arc::downgrade(context)) {
+                return Ok(resident.bvh.clone());
+            }
+            return self.upload(context);
+        }
+        let bvh = self.upload(context)?;
+        // Another thread may have stored its upload first; this one then serves only this query.
+        let _ = self.resident.set(Resident {
+            context: Arc::downgrade(context),
+            bvh: bvh.clone(),
+        });
+        Ok(bvh)
+    }
 }

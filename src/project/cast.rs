@@ -1,7 +1,8 @@
 use glam::Vec3;
 
+use super::Bvh;
 use super::cpu::project::nearest_hit;
-use super::{Bvh, Correspondence, Status};
+use crate::kernels::shared::{Correspondence, Status};
 
 impl Bvh {
     /// The first hit of the ray `origin + t·direction`, `0 <= t <= max_t` (both faces count),

@@ -1,7 +1,5 @@
-use bytemuck::{Pod, Zeroable};
-
 use super::ProjectError;
-use crate::compute::registry::{GpuStructLayout, SharedWgsl};
+use crate::kernels::shared::QueryParams;
 
 /// How [`super::project`] prunes correspondences (paper §4.2).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -42,11 +40,10 @@ impl ProjectOptions {
         } else {
             angle.to_radians().cos()
         };
-        Ok(QueryParams {
-            max_distance: absolute_distance(self.max_distance, unit)?,
+        Ok(QueryParams::new(
+            absolute_distance(self.max_distance, unit)?,
             cos_max_angle,
-            pad: [0; 2],
-        })
+        ))
     }
 }
 
@@ -65,46 +62,6 @@ pub(super) fn absolute_distance(relative: f32, unit: f32) -> Result<f32, Project
     } else {
         f32::MAX
     })
-}
-
-/// Largest closest-point search radius: its square, 10³⁶, is still a finite f32.
-const MAX_CLOSEST_DISTANCE: f32 = 1e18;
-
-/// Per-dispatch parameters of the query kernels.
-///
-/// Mirrors `struct QueryParams` in `kernels/shared/bvh.wgsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct QueryParams {
-    /// Largest `|t|` (projection) or distance (closest point) searched, in the target's units.
-    pub max_distance: f32,
-    /// Hits whose interpolated normal has a smaller dot product with the source normal are pruned.
-    pub cos_max_angle: f32,
-    pad: [u32; 2],
-}
-
-impl QueryParams {
-    /// Parameters of a closest-point search up to `max_distance` (in the target's units).
-    ///
-    /// Kernels square the bound, so it is capped where the square stays finite.
-    pub(super) fn closest(max_distance: f32) -> Self {
-        Self {
-            max_distance: max_distance.min(MAX_CLOSEST_DISTANCE),
-            cos_max_angle: -2.0,
-            pad: [0; 2],
-        }
-    }
-
-    pub const LAYOUT: GpuStructLayout = GpuStructLayout {
-        name: "QueryParams",
-        wgsl: &SharedWgsl::BVH,
-        size: size_of::<Self>(),
-        members: &[
-            ("max_distance", core::mem::offset_of!(Self, max_distance)),
-            ("cos_max_angle", core::mem::offset_of!(Self, cos_max_angle)),
-            ("pad", core::mem::offset_of!(Self, pad)),
-        ],
-    };
 }
 
 #[cfg(test)]

@@ -1,21 +1,24 @@
-//! The two queries, each on either backend.
+//! Dispatcher of the two query kernels (`kernels/project.wgsl`, `kernels/closest_point.wgsl`):
+//! each query on either backend, through its CPU twin in `cpu/` or its GPU host in `gpu/query.rs`.
 
 use glam::Vec3;
 use rayon::prelude::*;
 
 use super::cpu::closest_point::closest_point_cpu;
 use super::cpu::project::project_cpu;
+use super::directions::directions;
 use super::gpu::GpuQueries;
-use super::options::{QueryParams, absolute_distance};
+use super::options::absolute_distance;
 use super::order::SpatialOrder;
-use super::{Bvh, Correspondence, ProjectError, ProjectOptions};
+use super::{Bvh, ProjectError, ProjectOptions};
 use crate::compute::Backend;
+use crate::kernels::shared::{Correspondence, QueryParams};
 
 /// Projects each source point along its normal onto the target (paper §4.2): casts the line
 /// `p + t·n` both ways, keeps the hit with the least `|t|` within `options.max_distance`, and
 /// reports the hit point, the target's interpolated normal there, the signed `t`, the triangle
 /// and its barycentric weights. A hit whose normal is more than `options.max_angle_degrees`
-/// from `n` is reported as [`super::Status::NormalMismatch`].
+/// from `n` is reported as [`Status::NormalMismatch`](super::Status::NormalMismatch).
 ///
 /// Normals need not be unit (they are normalised; `t` is a distance). A point with a zero or
 /// non-finite normal, or a non-finite point, is a miss. Queries run in the spatial order of
@@ -81,26 +84,4 @@ pub fn closest_points(
         .filter(|(_, p)| !p.is_finite())
         .for_each(|(c, _)| *c = Correspondence::MISS);
     Ok(found)
-}
-
-/// The unit direction of each query, or zero where the point or its normal is unusable, computed
-/// once on the host so both backends cast exactly the same rays.
-pub(super) fn directions(points: &[Vec3], normals: &[Vec3]) -> Result<Vec<Vec3>, ProjectError> {
-    if points.len() != normals.len() {
-        return Err(ProjectError::LengthMismatch {
-            points: points.len(),
-            normals: normals.len(),
-        });
-    }
-    Ok(points
-        .par_iter()
-        .zip(normals)
-        .map(|(p, n)| {
-            if p.is_finite() {
-                n.normalize_or_zero()
-            } else {
-                Vec3::ZERO
-            }
-        })
-        .collect())
 }

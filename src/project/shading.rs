@@ -12,8 +12,8 @@ use std::f32::consts::PI;
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::adjacency::VertexFaces;
-use super::{NormalTriple, PseudoNormals};
+use crate::geometry::VertexFaces;
+use crate::kernels::shared::{NormalTriple, PseudoNormals};
 use crate::mesh::IndexedMesh;
 
 /// Normals and edge data in mesh order.

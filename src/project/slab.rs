@@ -4,7 +4,7 @@
 
 use glam::{BVec4A, Vec3, Vec4};
 
-use super::BvhNode;
+use crate::kernels::shared::BvhNode;
 
 /// Relative widening of every box interval: the slab parameters carry at most 3 roundings each,
 /// so widening by 2γ₃ (Ize 2013, "Robust BVH ray traversal") keeps the test conservative and a

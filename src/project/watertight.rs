@@ -9,7 +9,7 @@
 
 use glam::Vec3;
 
-use super::BvhTriangle;
+use crate::kernels::shared::BvhTriangle;
 
 /// The per-ray part of the transform: the axis permutation that makes the largest direction
 /// component z (keeping the winding), and the shear that maps the direction to +z.

@@ -6,36 +6,18 @@ use rayon::prelude::*;
 
 use super::model::CHUNK;
 
-/// The triangles around each vertex (compressed rows), for gathering normals in parallel.
+/// The triangles around each vertex, and the triangles themselves, for gathering normals in
+/// parallel.
 #[derive(Debug, Clone)]
 pub struct VertexFaces {
-    offsets: Vec<u32>,
-    faces: Vec<u32>,
+    around: crate::geometry::VertexFaces,
     triangles: Vec<[u32; 3]>,
 }
 
 impl VertexFaces {
     pub fn new(vertex_count: usize, triangles: &[[u32; 3]]) -> Self {
-        let mut offsets = vec![0u32; vertex_count + 1];
-        for tri in triangles {
-            for &v in tri {
-                offsets[v as usize + 1] += 1;
-            }
-        }
-        for v in 0..vertex_count {
-            offsets[v + 1] += offsets[v];
-        }
-        let mut fill = offsets[..vertex_count].to_vec();
-        let mut faces = vec![0u32; offsets[vertex_count] as usize];
-        for (t, tri) in triangles.iter().enumerate() {
-            for &v in tri {
-                faces[fill[v as usize] as usize] = t as u32;
-                fill[v as usize] += 1;
-            }
-        }
         Self {
-            offsets,
-            faces,
+            around: crate::geometry::VertexFaces::new(vertex_count, triangles),
             triangles: triangles.to_vec(),
         }
     }
@@ -59,7 +41,7 @@ impl VertexFaces {
             .with_min_len(CHUNK)
             .map(|&v| {
                 let v = v as usize;
-                let faces = &self.faces[self.offsets[v] as usize..self.offsets[v + 1] as usize];
+                let faces = self.around.around(v as u32);
                 let mut n = DVec3::ZERO;
                 for &t in faces {
                     let tri = self.triangles[t as usize];

@@ -1,5 +1,5 @@
 use super::field::Field;
-use super::scenes::{bounds, shape};
+use super::scenes::shape;
 use super::schedule::{frame_time, jitter};
 use super::transform::RigidTransform;
 use super::{Scene, SynthError, SynthOptions};
@@ -48,7 +48,7 @@ pub struct Frame {
 /// The fields, grids and expected topology of every frame, without extracting any surface.
 pub fn plan(scene: Scene, options: &SynthOptions) -> Result<Vec<FrameTruth>, SynthError> {
     options.check()?;
-    let [lo, hi] = bounds(scene);
+    let [lo, hi] = scene.bounds();
     let extent = hi - lo;
     let spacing = extent.max_element() / options.resolution as f32;
     let cells = (extent / spacing).ceil().to_array();

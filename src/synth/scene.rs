@@ -1,6 +1,4 @@
 use super::SynthError;
-use super::scenes;
-use glam::Vec3;
 use std::fmt;
 use std::str::FromStr;
 
@@ -41,11 +39,6 @@ impl Scene {
             Scene::Morph => "morph",
             Scene::Rigid => "rigid",
         }
-    }
-
-    /// World box `[min, max]` holding the scene's surface in every frame.
-    pub fn bounds(self) -> [Vec3; 2] {
-        scenes::bounds(self)
     }
 
     /// One line saying what happens in the scene.

@@ -25,6 +25,7 @@ use super::field::Field;
 use super::keys::{Cell, Corner, GridEdge, GridFace, corner_cells};
 use super::mesh_grid::MeshGrid;
 use super::region::pairs_follow_rule;
+use crate::geometry::Components;
 use crate::grid::{GridCrossing, GridLine};
 use crate::mesh::IndexedMesh;
 
@@ -232,29 +233,14 @@ fn deep_edge(
 fn sub_cell_components(grid: &MeshGrid) -> Vec<Cell> {
     let mesh: &IndexedMesh = grid.mesh;
     let n = mesh.positions.len();
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn find(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            parent[x as usize] = parent[parent[x as usize] as usize];
-            x = parent[x as usize];
-        }
-        x
-    }
-    for t in &mesh.triangles {
-        for k in 1..3 {
-            let (a, b) = (find(&mut parent, t[0]), find(&mut parent, t[k]));
-            if a != b {
-                parent[a.max(b) as usize] = a.min(b);
-            }
-        }
-    }
+    let mut components = Components::new(n, &mesh.triangles);
     let mut crossed = vec![false; n];
     for c in grid.crossings.all() {
-        let root = find(&mut parent, mesh.triangles[c.triangle as usize][0]);
+        let root = components.find(mesh.triangles[c.triangle as usize][0]);
         crossed[root as usize] = true;
     }
     let mut cells: Vec<Cell> = (0..n as u32)
-        .filter(|&v| !crossed[find(&mut parent, v) as usize])
+        .filter(|&v| !crossed[components.find(v) as usize])
         .map(|v| grid.vertex_cell(v))
         .collect();
     cells.sort_unstable();

@@ -14,7 +14,7 @@ use rustc_hash::FxHashMap;
 
 use super::TopologyError;
 use super::keys::{Cell, Corner, GridEdge, cell_corner, step};
-use crate::grid::{GridFrame, GridLine, T_MIN, Windings};
+use crate::grid::{GridFrame, GridLine, T_MIN, Windings, sample_box};
 
 /// A voxelized implicit surface on a grid: `value(corner) < 0` inside.
 #[derive(Debug, Clone)]
@@ -140,23 +140,9 @@ impl Field {
             .try_fold(1usize, |n, &d| n.checked_mul(d))
             .filter(|&n| n <= MAX_BOX_CORNERS)
             .ok_or(TopologyError::FieldTooLarge { dims })?;
-        let mut values = vec![0.0f32; count];
-        let plane = dims[0] * dims[1];
-        if plane > 0 {
-            values
-                .par_chunks_mut(plane)
-                .enumerate()
-                .for_each(|(k, slice)| {
-                    for (n, value) in slice.iter_mut().enumerate() {
-                        let c = [
-                            lo[0] + (n % dims[0]) as i32,
-                            lo[1] + (n / dims[0]) as i32,
-                            lo[2] + k as i32,
-                        ];
-                        *value = f(frame.corner_position(c));
-                    }
-                });
-        }
+        let values = sample_box(dims, count, |corner| {
+            f(frame.corner_position(std::array::from_fn(|a| lo[a] + corner[a] as i32)))
+        });
         let mut field = Self {
             frame,
             values: Values::Box { lo, dims, values },

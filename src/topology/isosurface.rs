@@ -8,6 +8,7 @@ use rustc_hash::FxHashMap;
 use super::field::Field;
 use super::keys::{Cell, GridEdge, cell_edge};
 use super::place::to_world;
+use crate::geometry::Components;
 use crate::grid::cases::cell_case;
 use crate::mesh::IndexedMesh;
 
@@ -58,41 +59,26 @@ pub(crate) fn place_isosurface(field: &Field, mesh: &mut IndexedMesh, edges: &[G
 /// triangles' corners, so no edge needs to be listed. Vertices no triangle uses are ignored.
 pub(crate) fn signature(mesh: &IndexedMesh) -> Vec<i64> {
     let n = mesh.positions.len();
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn find(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            parent[x as usize] = parent[parent[x as usize] as usize];
-            x = parent[x as usize];
-        }
-        x
-    }
     if mesh.triangles.iter().flatten().any(|&v| v as usize >= n) {
         return vec![i64::MIN];
     }
-    for t in &mesh.triangles {
-        for k in 1..3 {
-            let (a, b) = (find(&mut parent, t[0]), find(&mut parent, t[k]));
-            if a != b {
-                parent[a.max(b) as usize] = a.min(b);
-            }
-        }
-    }
+    let mut components = Components::new(n, &mesh.triangles);
     let mut vertices = vec![0i64; n];
     let mut faces = vec![0i64; n];
     let mut used = vec![false; n];
     for t in &mesh.triangles {
-        faces[find(&mut parent, t[0]) as usize] += 1;
+        faces[components.find(t[0]) as usize] += 1;
         for &v in t {
             used[v as usize] = true;
         }
     }
     for v in 0..n as u32 {
         if used[v as usize] {
-            vertices[find(&mut parent, v) as usize] += 1;
+            vertices[components.find(v) as usize] += 1;
         }
     }
     let mut euler: Vec<i64> = (0..n)
-        .filter(|&r| parent[r] == r as u32 && used[r])
+        .filter(|&r| components.is_root(r as u32) && used[r])
         .map(|r| vertices[r] - faces[r] / 2)
         .collect();
     euler.sort_unstable();

@@ -9,7 +9,9 @@ use super::TopologyError;
 use super::keys::{Cell, Corner, GridEdge, GridFace};
 use super::segment::Segment;
 use crate::compute::Backend;
-use crate::grid::{Crossings, GridCrossing, GridFrame, LatticeMesh, Windings, rasterize, sweep};
+use crate::grid::{
+    Crossings, GridCrossing, GridFrame, LatticeMesh, Windings, rasterize, row_starts, sweep,
+};
 use crate::mesh::{FaceId, HalfEdgeId, IndexedMesh, Mesh};
 
 /// Undirected edges of the mesh: each joins `verts[e]` (smaller index first) and
@@ -76,13 +78,7 @@ pub(crate) struct Rows<T> {
 
 impl<T> Rows<T> {
     fn from_rows(rows: Vec<Vec<T>>) -> Self {
-        let mut starts = Vec::with_capacity(rows.len() + 1);
-        let mut n = 0u32;
-        starts.push(0);
-        for r in &rows {
-            n += r.len() as u32;
-            starts.push(n);
-        }
+        let starts = row_starts(rows.iter().map(|r| r.len() as u32));
         Self {
             starts,
             items: rows.into_iter().flatten().collect(),

@@ -11,20 +11,11 @@
 use std::cmp::Ordering;
 
 use super::keys::Cell;
-use crate::grid::{CELL_UNITS, LatticePoint};
+use crate::grid::{CELL_UNITS, LatticePoint, last_above, segment_sign};
 
 /// Lattice coordinate of plane `plane`.
 fn plane_units(plane: i32) -> i128 {
     i128::from(plane) * i128::from(CELL_UNITS)
-}
-
-/// Sign of the first non-zero value: how a tie is read from the coefficients of `ε`, `ε²`, `ε³`.
-fn first_sign(values: &[i128]) -> i128 {
-    values
-        .iter()
-        .map(|v| v.signum())
-        .find(|&s| s != 0)
-        .unwrap_or(0)
 }
 
 /// Whether a mesh vertex lies above plane `plane` of `axis`: on the plane counts as above, since
@@ -72,14 +63,8 @@ impl Segment {
     pub fn above(&self, (a, i): (usize, i32), (b, j): (usize, i32)) -> bool {
         let d = &self.d;
         let n = (self.p[b] - plane_units(j)) * d[a] + (plane_units(i) - self.p[a]) * d[b];
-        let s = if n != 0 {
-            n.signum()
-        } else if a < b {
-            first_sign(&[-d[b], d[a]])
-        } else {
-            first_sign(&[d[a], -d[b]])
-        };
-        s * d[a].signum() > 0
+        let d_a = d[a].signum() as i32;
+        segment_sign(n.signum() as i32, a, b, d_a, d[b].signum() as i32) * d_a > 0
     }
 
     /// The cell above the face that the edge pierces on plane `i` of `a` (the face is that cell's
@@ -88,16 +73,7 @@ impl Segment {
         let mut cell = [0; 3];
         cell[a] = i;
         for b in (0..3).filter(|&b| b != a) {
-            let (mut lo, mut hi) = (self.lo[b], self.hi[b]);
-            while lo < hi {
-                let mid = lo + (hi - lo + 1) / 2;
-                if self.above((a, i), (b, mid)) {
-                    lo = mid;
-                } else {
-                    hi = mid - 1;
-                }
-            }
-            cell[b] = lo;
+            cell[b] = last_above(self.lo[b], self.hi[b], |mid| self.above((a, i), (b, mid)));
         }
         cell
     }
@@ -111,14 +87,8 @@ impl Segment {
             return if d[a] > 0 { i.cmp(&j) } else { j.cmp(&i) };
         }
         let n = (plane_units(i) - self.p[a]) * d[b] - (plane_units(j) - self.p[b]) * d[a];
-        let s = if n != 0 {
-            n.signum()
-        } else if a < b {
-            first_sign(&[-d[b], d[a]])
-        } else {
-            first_sign(&[d[a], -d[b]])
-        };
-        (s * d[a].signum() * d[b].signum()).cmp(&0)
+        let (d_a, d_b) = (d[a].signum() as i32, d[b].signum() as i32);
+        (segment_sign(n.signum() as i32, a, b, d_a, d_b) * d_a * d_b).cmp(&0)
     }
 
     /// Parameter along the edge of its crossing with plane `i` of `a`, in `[0, 1]`.
@@ -139,17 +109,22 @@ mod tests {
     }
 
     #[test]
-    fn faces_and_order_follow_the_geometry() {
-        let p = point([0, 0, 0], [HALF; 3]);
-        let q = point([2, 1, 0], [HALF; 3]);
-        let seg = Segment::new(&p, &q);
-        let mut planes = vec![(0usize, 2), (1, 1), (0, 1)];
-        planes.sort_by(|&x, &y| seg.compare(x, y));
-        assert_eq!(planes, vec![(0, 1), (1, 1), (0, 2)]);
-        assert_eq!(seg.face(0, 1), [1, 0, 0]);
-        assert_eq!(seg.face(1, 1), [1, 1, 0]);
-        assert_eq!(seg.face(0, 2), [2, 1, 0]);
-        assert!((seg.parameter(0, 1) - 0.25).abs() < 1e-12);
+    fn faces_order_and_parameters_follow_the_geometry() {
+        let seg = Segment::new(&point([0, 0, 0], [HALF; 3]), &point([2, 1, 0], [HALF; 3]));
+        // x = 1 at s = 0.25, y = 1 at s = 0.5, x = 2 at s = 0.75.
+        let crossings = [
+            ((0usize, 1), [1, 0, 0], 0.25),
+            ((1, 1), [1, 1, 0], 0.5),
+            ((0, 2), [2, 1, 0], 0.75),
+        ];
+        for (k, &((axis, plane), face, s)) in crossings.iter().enumerate() {
+            assert_eq!(seg.face(axis, plane), face);
+            assert!((seg.parameter(axis, plane) - s).abs() < 1e-12);
+            for &(later, _, _) in &crossings[k + 1..] {
+                assert_eq!(seg.compare((axis, plane), later), Ordering::Less);
+                assert_eq!(seg.compare(later, (axis, plane)), Ordering::Greater);
+            }
+        }
     }
 
     #[test]

@@ -8,9 +8,12 @@
 use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 
-use crate::project::options::QueryParams;
-use crate::project::point_triangle::{closest_on_triangle, side_normal};
-use crate::project::{Bvh, BvhNode, Correspondence, Status};
+use super::traversal::Stack;
+use crate::geometry::{Region, region};
+use crate::kernels::shared::{
+    BvhNode, BvhTriangle, Correspondence, NormalTriple, PseudoNormals, QueryParams, Status,
+};
+use crate::project::Bvh;
 
 /// The nearest surface point of every point.
 pub(in crate::project) fn closest_point_cpu(
@@ -50,8 +53,7 @@ fn closest_point(bvh: &Bvh, p: Vec3, params: &QueryParams) -> Correspondence {
     let mut best = params.max_distance * params.max_distance;
     let mut best_id = u32::MAX;
     let mut best_slot = u32::MAX;
-    let mut stack = [(0u32, 0.0f32); Bvh::STACK_SIZE];
-    let mut sp = 0usize;
+    let mut stack = Stack::new();
     let mut node: &BvhNode = &nodes[0];
     loop {
         let keys = box_distance2(node, splat);
@@ -71,39 +73,12 @@ fn closest_point(bvh: &Bvh, p: Vec3, params: &QueryParams) -> Correspondence {
                 }
             }
         }
-        let mut near = [(0u32, 0.0f32); 4];
-        let mut n_near = 0;
-        for k in 0..4 {
-            let key = keys[k];
-            if node.count[k] == 0 && key <= best {
-                // Insertion by key, nearest first.
-                let mut j = n_near;
-                while j > 0 && near[j - 1].1 > key {
-                    near[j] = near[j - 1];
-                    j -= 1;
-                }
-                near[j] = (node.child[k], key);
-                n_near += 1;
-            }
-        }
-        if n_near > 0 {
-            for j in (1..n_near).rev() {
-                stack[sp] = near[j];
-                sp += 1;
-            }
-            node = &nodes[near[0].0 as usize];
-            continue;
-        }
-        loop {
-            if sp == 0 {
-                return finish(bvh, p, best_slot);
-            }
-            sp -= 1;
-            let (next, key) = stack[sp];
-            if key <= best {
-                node = &nodes[next as usize];
-                break;
-            }
+        let next = stack
+            .descend(node, keys.to_array(), |_| true, best)
+            .or_else(|| stack.pop(best));
+        match next {
+            Some(next) => node = &nodes[next as usize],
+            None => return finish(bvh, p, best_slot),
         }
     }
 }
@@ -115,7 +90,7 @@ fn finish(bvh: &Bvh, p: Vec3, slot: u32) -> Correspondence {
         return Correspondence::MISS;
     };
     let nearest = closest_on_triangle(p, tri);
-    let side = side_normal(tri, &bvh.pseudo_normals()[slot], nearest.feature);
+    let side = side_normal(tri, &bvh.pseudo_normals()[slot], nearest.region);
     let distance = (p - nearest.point).length();
     let signed = if (p - nearest.point).dot(side) < 0.0 {
         -distance
@@ -130,4 +105,59 @@ fn finish(bvh: &Bvh, p: Vec3, slot: u32) -> Correspondence {
         Vec3::from_array(nearest.weights),
         Status::Accepted,
     )
+}
+
+/// The nearest point, its barycentric weights and the region it lies in, which decides the sign
+/// of the distance.
+struct Nearest {
+    point: Vec3,
+    weights: [f32; 3],
+    region: Region<f32>,
+}
+
+/// The point of `tri` nearest to `p`, with the weights `closest_on_triangle` in
+/// `kernels/closest_point.wgsl` computes.
+#[inline(always)]
+fn closest_on_triangle(p: Vec3, tri: &BvhTriangle) -> Nearest {
+    let [a, b, c] = tri.corners();
+    let found = region(p, a, b, c);
+    let weights = match found {
+        Region::Vertex(k) => {
+            let mut w = [0.0; 3];
+            w[k] = 1.0;
+            w
+        }
+        Region::Edge(0, s) => [1.0 - s, s, 0.0],
+        Region::Edge(1, s) => [0.0, 1.0 - s, s],
+        Region::Edge(_, s) => [1.0 - s, 0.0, s],
+        Region::Face(v, w) => [1.0 - v - w, v, w],
+        // Only a degenerate (zero-area) triangle gets here; its corner a is as good as any point.
+        Region::Degenerate => [1.0, 0.0, 0.0],
+    };
+    let point = match found {
+        Region::Vertex(k) => [a, b, c][k],
+        Region::Degenerate => a,
+        _ => a * weights[0] + b * weights[1] + c * weights[2],
+    };
+    Nearest {
+        point,
+        weights,
+        region: found,
+    }
+}
+
+/// The normal whose side of the surface `p` is on when its nearest point lies in `region`: the
+/// face normal inside the face, the pseudo-normal on an edge or at a corner.
+fn side_normal(tri: &BvhTriangle, pseudo: &PseudoNormals, region: Region<f32>) -> Vec3 {
+    let pick = |t: &NormalTriple, k: usize| match k {
+        0 => t.a,
+        1 => t.b,
+        _ => t.c,
+    };
+    match region {
+        Region::Vertex(k) => pick(&pseudo.vertices, k),
+        Region::Edge(k, _) => pick(&pseudo.edges, k),
+        Region::Degenerate => pick(&pseudo.vertices, 0),
+        Region::Face(..) => (tri.b - tri.a).cross(tri.c - tri.a),
+    }
 }

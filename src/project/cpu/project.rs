@@ -8,10 +8,11 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::project::options::QueryParams;
+use super::traversal::Stack;
+use crate::kernels::shared::{BvhNode, Correspondence, QueryParams, Status};
+use crate::project::Bvh;
 use crate::project::slab::Slabs;
 use crate::project::watertight::Shear;
-use crate::project::{Bvh, BvhNode, Correspondence, Status};
 
 /// Projects every point along its direction (unit, or zero for a query to skip).
 pub(in crate::project) fn project_cpu(
@@ -81,8 +82,7 @@ pub(in crate::project) fn nearest_hit(
     let mut best = max_distance;
     let mut best_id = u32::MAX;
     let mut found: Option<LineHit> = None;
-    let mut stack = [(0u32, 0.0f32); Bvh::STACK_SIZE];
-    let mut sp = 0usize;
+    let mut stack = Stack::new();
     let mut node: &BvhNode = &nodes[0];
     loop {
         let (keys, hits) = slabs.keys(node, floor.max(-best), best);
@@ -109,39 +109,12 @@ pub(in crate::project) fn nearest_hit(
                 }
             }
         }
-        let mut near = [(0u32, 0.0f32); 4];
-        let mut n_near = 0;
-        for k in 0..4 {
-            let key = keys[k];
-            if hits & (1 << k) != 0 && node.count[k] == 0 && key <= best {
-                // Insertion by key, nearest first.
-                let mut j = n_near;
-                while j > 0 && near[j - 1].1 > key {
-                    near[j] = near[j - 1];
-                    j -= 1;
-                }
-                near[j] = (node.child[k], key);
-                n_near += 1;
-            }
-        }
-        if n_near > 0 {
-            for j in (1..n_near).rev() {
-                stack[sp] = near[j];
-                sp += 1;
-            }
-            node = &nodes[near[0].0 as usize];
-            continue;
-        }
-        loop {
-            if sp == 0 {
-                return found;
-            }
-            sp -= 1;
-            let (next, key) = stack[sp];
-            if key <= best {
-                node = &nodes[next as usize];
-                break;
-            }
+        let next = stack
+            .descend(node, keys.to_array(), |k| hits & (1 << k) != 0, best)
+            .or_else(|| stack.pop(best));
+        match next {
+            Some(next) => node = &nodes[next as usize],
+            None => return found,
         }
     }
 }

@@ -27,15 +27,17 @@ pub(super) struct Shape {
     pub genus: i64,
 }
 
-/// World box holding the scene's surface in every frame.
-pub(super) fn bounds(scene: Scene) -> [Vec3; 2] {
-    match scene {
-        Scene::Blobs => blobs::BOUNDS,
-        Scene::Merge => merge::BOUNDS,
-        Scene::Split => split::BOUNDS,
-        Scene::Droplets => droplets::BOUNDS,
-        Scene::Morph => morph::BOUNDS,
-        Scene::Rigid => rigid::BOUNDS,
+impl Scene {
+    /// World box `[min, max]` holding the scene's surface in every frame.
+    pub fn bounds(self) -> [Vec3; 2] {
+        match self {
+            Scene::Blobs => blobs::BOUNDS,
+            Scene::Merge => merge::BOUNDS,
+            Scene::Split => split::BOUNDS,
+            Scene::Droplets => droplets::BOUNDS,
+            Scene::Morph => morph::BOUNDS,
+            Scene::Rigid => rigid::BOUNDS,
+        }
     }
 }
 

@@ -321,7 +321,7 @@ def main():
     mesh_all(a.cache, a.out, a.first, a.stride, a.count, version)
 
 
-FIRST, STRIDE, COUNT = 0, 1, 50
+FIRST, STRIDE, COUNT = 0, 2, 45
 
 if __name__ == "__main__":
     sys.exit(main())

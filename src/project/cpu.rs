@@ -1,5 +1,0 @@
-//! CPU twins of the query kernels, one file each with the kernel's name, loop shape and variable
-//! names, so each can be read beside its WGSL.
-
-pub(super) mod closest_point;
-pub mod project;
