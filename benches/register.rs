@@ -22,8 +22,8 @@ use surftrack::compute::{Backend, BackendChoice};
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::project::Bvh;
 use surftrack::register::{
-    CoarseSolver, DeformationGraph, GraphOptions, LinearSolver, RegisterOptions, fine_align,
-    register,
+    CoarseSolver, DeformationGraph, GraphOptions, LinearSolver, RegisterOptions, Target,
+    fine_align, register,
 };
 use surftrack::synth::{Scene, SynthOptions, extract, plan};
 
@@ -134,7 +134,10 @@ fn bench(c: &mut Criterion) {
             group.bench_function(name, |b| {
                 b.iter_batched(
                     || mesh.clone(),
-                    |mut mesh| register(backend, &mut mesh, &target, &options).expect("register"),
+                    |mut mesh| {
+                        register(backend, &mut mesh, Target::Mesh(&target), &options)
+                            .expect("register")
+                    },
                     BatchSize::PerIteration,
                 )
             });

@@ -11,7 +11,7 @@ use std::path::Path;
 use surftrack::compute::Backend;
 use surftrack::io::read_frame;
 use surftrack::mesh::Mesh;
-use surftrack::register::{RegisterOptions, register};
+use surftrack::register::{RegisterOptions, Target, register};
 use surftrack::synth::{Scene, SynthOptions, extract, plan};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -39,7 +39,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let report = register(
         &Backend::Cpu,
         &mut mesh,
-        &target,
+        Target::Mesh(&target),
         &RegisterOptions::default(),
     )?;
     let c = &report.coarse;

@@ -3,7 +3,7 @@
 
 use surftrack::compute::Backend;
 use surftrack::mesh::Mesh;
-use surftrack::register::{RegisterOptions, register};
+use surftrack::register::{RegisterOptions, Target, register};
 use surftrack::synth::{Scene, SynthOptions, extract, plan};
 
 /// Frames 0 and 1 of `merge` registered in a pool of `threads` threads: every position's bits and
@@ -28,7 +28,7 @@ fn registered(threads: usize) -> (Vec<[u32; 3]>, usize) {
         let report = register(
             &Backend::Cpu,
             &mut mesh,
-            &target,
+            Target::Mesh(&target),
             &RegisterOptions::default(),
         )
         .expect("register");

@@ -12,7 +12,7 @@ use surftrack::compute::Backend;
 use surftrack::grid::{ScalarGrid, marching_cubes};
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::project::{Bvh, closest_points};
-use surftrack::register::{RegisterOptions, RegistrationReport, register};
+use surftrack::register::{RegisterOptions, RegistrationReport, Target, register};
 use surftrack::synth::{Field, RigidTransform};
 
 /// Marching cubes of `field` over `[lo, hi]` with cells of `spacing`, the grid shifted by `jitter`
@@ -125,7 +125,7 @@ fn recover(
     let report = register(
         &Backend::Cpu,
         &mut mesh,
-        target,
+        Target::Mesh(target),
         &RegisterOptions::default(),
     )
     .unwrap();
@@ -284,7 +284,7 @@ fn unfinished_stages_are_reported() {
     options.fine.max_cg_iterations = 1;
     options.fine.tolerance = 1e-12;
     let mut mesh = Mesh::from_indexed(&source).unwrap();
-    let report = register(&Backend::Cpu, &mut mesh, &target, &options).unwrap();
+    let report = register(&Backend::Cpu, &mut mesh, Target::Mesh(&target), &options).unwrap();
     assert_monotone(&report);
     assert!(!report.converged());
     assert!(!report.coarse.converged);

@@ -70,11 +70,7 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
         .flatten()
         .map(|p| p.display().to_string())
         .collect();
-    let channels: Vec<String> = summary
-        .channels
-        .iter()
-        .map(|(name, k)| format!("{name} ({k})"))
-        .collect();
+    let channels = super::channel_names(&summary.channels);
     println!(
         "exported {} frames (up to {} vertices) with ids and velocities{}{} -> {}",
         summary.frames,

@@ -56,6 +56,14 @@ enum Command {
     Export(export::ExportArgs),
 }
 
+/// `name (components)` for each carried channel, as the summaries print them.
+fn channel_names(channels: &[(String, usize)]) -> Vec<String> {
+    channels
+        .iter()
+        .map(|(name, k)| format!("{name} ({k})"))
+        .collect()
+}
+
 pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         Command::Inspect(args) => inspect::run(&args),

@@ -127,11 +127,7 @@ pub fn run(args: &PropagateArgs) -> Result<(), CliError> {
         .clone()
         .unwrap_or_else(|| args.tracked.join("propagated"));
     let summary = propagate(&args.tracked, &out, &options, args.force)?;
-    let names: Vec<String> = summary
-        .channels
-        .iter()
-        .map(|(name, k)| format!("{name} ({k})"))
-        .collect();
+    let names = super::channel_names(&summary.channels);
     println!(
         "carried {} {} from frame {} through {} frames into {}",
         if names.len() == 1 {

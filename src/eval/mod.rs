@@ -23,5 +23,5 @@ pub use drift::{Drift, MaterialPoints};
 pub use error::EvalError;
 pub use options::EvalOptions;
 pub use quality::{ASPECT_BUCKETS, TriangleQuality, triangle_quality};
-pub use report::{EvalReport, FrameReport, LostTotals, Summary};
+pub use report::{EvalReport, FrameReport, Summary};
 pub use run::evaluate;

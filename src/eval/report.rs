@@ -83,8 +83,8 @@ pub struct Summary {
     /// Mean coherence over frames 1…n−1.
     pub mean_coherence: Option<f64>,
     pub min_coherence: Option<f64>,
-    /// Vertices lost over the run by stage (frames whose run recorded it).
-    pub lost: Option<LostTotals>,
+    /// What each stage created, removed and lost over the run (frames whose run recorded it).
+    pub lost: Option<StageChurn>,
     /// The carried checker's pure share in the last frame, and its lowest over the frames.
     pub final_checker_pure: Option<f64>,
     pub min_checker_pure: Option<f64>,
@@ -93,29 +93,6 @@ pub struct Summary {
     pub max_mean_drift_percent: Option<f32>,
     /// Frames failing `FrameReport::passes` with the report's bars.
     pub failing_frames: Vec<usize>,
-}
-
-/// Vertices of a previous frame lost over the run, by the stage that removed them.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
-pub struct LostTotals {
-    pub improve: usize,
-    pub topology_self: usize,
-    pub topology_target: usize,
-    pub subgrid: usize,
-}
-
-impl LostTotals {
-    fn of(frames: &[FrameReport]) -> Option<Self> {
-        let mut totals: Option<Self> = None;
-        for c in frames.iter().filter_map(|f| f.lost) {
-            let t = totals.get_or_insert_with(Self::default);
-            t.improve += c.improve.lost;
-            t.topology_self += c.topology_self.lost;
-            t.topology_target += c.topology_target.lost;
-            t.subgrid += c.subgrid.lost;
-        }
-        totals
-    }
 }
 
 /// The whole evaluation, as written to JSON.
@@ -158,7 +135,10 @@ impl Summary {
                 .fold(1.0, f64::min),
             mean_coherence: mean(coherence.iter().copied()),
             min_coherence: coherence.iter().copied().reduce(f64::min),
-            lost: LostTotals::of(frames),
+            lost: frames
+                .iter()
+                .filter_map(|f| f.lost)
+                .reduce(|total, frame| total.plus(&frame)),
             final_checker_pure: frames.last().and_then(|f| f.checker_pure),
             min_checker_pure: frames
                 .iter()
@@ -318,7 +298,7 @@ impl EvalReport {
                 s,
                 "vertices lost to re-sampling over the run: improvement {}, topology on Φ(M) {}, \
                  on Φ(T) {}, sub-grid match {}",
-                l.improve, l.topology_self, l.topology_target, l.subgrid
+                l.improve.lost, l.topology_self.lost, l.topology_target.lost, l.subgrid.lost
             );
         }
         if let (Some(last), Some(worst)) = (m.final_drift, m.max_mean_drift_percent) {

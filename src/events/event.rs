@@ -73,13 +73,11 @@ impl Event {
     /// the weights being the breadth-first boundary averages of §4.4. An empty `boundary` (nothing
     /// survives to take data from) gives `(∅, {new}, null, null)`.
     pub fn patch_created(created: u64, boundary: Vec<(u64, f32)>) -> Self {
-        let inputs: Vec<u64> = boundary.iter().map(|&(id, _)| id).collect();
-        let mut outputs = inputs.clone();
-        outputs.push(created);
+        let (before, after) = patch_sides(created, &boundary);
         Self {
             kind: EventKind::PatchCreated,
-            inputs,
-            outputs,
+            inputs: before,
+            outputs: after,
             forward: rule(created, boundary),
             backward: Vec::new(),
         }
@@ -88,13 +86,11 @@ impl Event {
     /// A vertex deleted in a merged patch: `(boundary ∪ {old}, boundary, null, old := Σ w·b)`. An
     /// empty `boundary` gives `({old}, ∅, null, null)`.
     pub fn patch_deleted(deleted: u64, boundary: Vec<(u64, f32)>) -> Self {
-        let outputs: Vec<u64> = boundary.iter().map(|&(id, _)| id).collect();
-        let mut inputs = outputs.clone();
-        inputs.push(deleted);
+        let (after, before) = patch_sides(deleted, &boundary);
         Self {
             kind: EventKind::PatchDeleted,
-            inputs,
-            outputs,
+            inputs: before,
+            outputs: after,
             forward: Vec::new(),
             backward: rule(deleted, boundary),
         }
@@ -163,6 +159,15 @@ impl Event {
         }
         Ok(())
     }
+}
+
+/// The boundary's vertices, and the same with `vertex` after them: the two vertex sets of a patch
+/// event, the smaller on the side `vertex` is missing from.
+fn patch_sides(vertex: u64, boundary: &[(u64, f32)]) -> (Vec<u64>, Vec<u64>) {
+    let without: Vec<u64> = boundary.iter().map(|&(id, _)| id).collect();
+    let mut with = without.clone();
+    with.push(vertex);
+    (without, with)
 }
 
 /// `target := Σ w·source` over `terms`, or no rule (the paper's null) when there are no terms.

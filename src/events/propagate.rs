@@ -8,13 +8,12 @@ use super::{Assignment, EventError, EventList, VertexValues};
 /// keep their values bit for bit.
 pub fn forward(events: &EventList, values: &mut VertexValues) -> Result<(), EventError> {
     for (index, event) in events.events.iter().enumerate() {
-        let computed = evaluate(index, &event.forward, values)?;
-        for &id in &event.inputs {
-            if !event.outputs.contains(&id) {
-                values.remove(id);
-            }
-        }
-        store(computed, values)?;
+        apply(
+            index,
+            &event.forward,
+            (&event.inputs, &event.outputs),
+            values,
+        )?;
     }
     Ok(())
 }
@@ -24,15 +23,32 @@ pub fn forward(events: &EventList, values: &mut VertexValues) -> Result<(), Even
 /// had created lose theirs. A `null` backward rule (splits, created patches) only drops.
 pub fn backward(events: &EventList, values: &mut VertexValues) -> Result<(), EventError> {
     for (index, event) in events.events.iter().enumerate().rev() {
-        let computed = evaluate(index, &event.backward, values)?;
-        for &id in &event.outputs {
-            if !event.inputs.contains(&id) {
-                values.remove(id);
-            }
-        }
-        store(computed, values)?;
+        apply(
+            index,
+            &event.backward,
+            (&event.outputs, &event.inputs),
+            values,
+        )?;
     }
     Ok(())
+}
+
+/// Event `index` applied one way, from the vertex set `from` to `to`: `rules` give values to the
+/// vertices they write, computed from the values before the event; the vertices only in `from`
+/// lose theirs.
+fn apply(
+    index: usize,
+    rules: &[Assignment],
+    (from, to): (&[u64], &[u64]),
+    values: &mut VertexValues,
+) -> Result<(), EventError> {
+    let computed = evaluate(index, rules, values)?;
+    for &id in from {
+        if !to.contains(&id) {
+            values.remove(id);
+        }
+    }
+    store(computed, values)
 }
 
 /// Evaluates every rule of one event against the values as they were before the event, so rules of

@@ -3,7 +3,7 @@
 
 use super::ExportError;
 use crate::io::{ReadOptions, read_frame_with};
-use crate::mesh::{Attribute, IndexedMesh};
+use crate::mesh::IndexedMesh;
 use crate::propagate::TrackedSequence;
 use crate::sequence::frame_name;
 use rustc_hash::FxHashMap;
@@ -87,15 +87,7 @@ impl ExportSource {
         mesh.attributes = carried
             .attributes
             .iter()
-            .map(|a| Attribute {
-                name: a.name.clone(),
-                components: a.components,
-                values: order
-                    .iter()
-                    .flat_map(|&v| a.values[v * a.components..(v + 1) * a.components].iter())
-                    .copied()
-                    .collect(),
-            })
+            .map(|a| a.gather(&order))
             .collect();
         Ok(mesh)
     }

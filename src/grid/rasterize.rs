@@ -20,11 +20,7 @@ use crate::compute::Backend;
 pub fn rasterize(backend: &Backend, mesh: &LatticeMesh) -> Result<Crossings, RasterError> {
     let crossings = match backend {
         Backend::Cpu => rasterize_cpu(mesh),
-        Backend::Gpu(context) => {
-            let job = GpuRasterize::upload(context, mesh)?;
-            job.dispatch(context)?;
-            job.read(context)?
-        }
+        Backend::Gpu(context) => GpuRasterize::run(context, mesh)?,
     };
     Ok(Crossings::from_unsorted(crossings))
 }

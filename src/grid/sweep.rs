@@ -30,11 +30,7 @@ use crate::kernels::shared::WindingRun;
 pub fn sweep(backend: &Backend, crossings: &Crossings) -> Result<Windings, RasterError> {
     let slots = match backend {
         Backend::Cpu => sweep_cpu(crossings),
-        Backend::Gpu(context) => {
-            let job = GpuSweep::upload(context, crossings)?;
-            job.dispatch(context)?;
-            job.read(context)?
-        }
+        Backend::Gpu(context) => GpuSweep::run(context, crossings)?,
     };
     Ok(Windings::from_slots(crossings.index(), &slots))
 }

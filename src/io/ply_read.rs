@@ -243,6 +243,7 @@ fn describe(
 ) -> IoError {
     let path = path.to_path_buf();
     let name = &element.name;
+    let malformed = |path, reason| IoError::Malformed { path, at, reason };
     match problem {
         Problem::Fault(Fault::Truncated) => IoError::Truncated {
             path,
@@ -250,21 +251,18 @@ fn describe(
             expected: format!("{} {name} records", element.count),
         },
         Problem::Fault(Fault::NotANumber(text)) => IoError::NotANumber { path, at, text },
-        Problem::Fault(Fault::OutOfRange(text, ty)) => IoError::Malformed {
+        Problem::Fault(Fault::OutOfRange(text, ty)) => malformed(
             path,
-            at,
-            reason: format!("{text} does not fit the declared type {}", ty.name()),
-        },
-        Problem::Fault(Fault::MissingValue) => IoError::Malformed {
+            format!("{text} does not fit the declared type {}", ty.name()),
+        ),
+        Problem::Fault(Fault::MissingValue) => malformed(
             path,
-            at,
-            reason: format!("the {name} record ends before all its values"),
-        },
-        Problem::Fault(Fault::ExtraValues) => IoError::Malformed {
+            format!("the {name} record ends before all its values"),
+        ),
+        Problem::Fault(Fault::ExtraValues) => malformed(
             path,
-            at,
-            reason: format!("the {name} record has more values than the header declares"),
-        },
+            format!("the {name} record has more values than the header declares"),
+        ),
         Problem::IndexOutOfRange(index) => IoError::IndexOutOfRange {
             path,
             at,
@@ -276,11 +274,10 @@ fn describe(
             at,
             value: format!("({x}, {y}, {z})"),
         },
-        Problem::BadId(id) => IoError::Malformed {
+        Problem::BadId(id) => malformed(
             path,
-            at,
-            reason: format!("vertex id {id} is not a non-negative integer"),
-        },
+            format!("vertex id {id} is not a non-negative integer"),
+        ),
         Problem::NegativeCount(count) => IoError::InvalidCount {
             path,
             at,

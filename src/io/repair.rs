@@ -2,7 +2,7 @@
 //! vertices no face uses. A valid closed mesh passes through unchanged (all counts zero).
 
 use super::weld::weld_targets;
-use crate::mesh::{Attribute, IndexedMesh};
+use crate::mesh::IndexedMesh;
 use glam::DVec3;
 use serde::Serialize;
 
@@ -78,19 +78,7 @@ pub(crate) fn repair(mesh: IndexedMesh, relative_tolerance: f32) -> (IndexedMesh
             .ids
             .as_ref()
             .map(|ids| order.iter().map(|&v| ids[v]).collect()),
-        attributes: mesh
-            .attributes
-            .iter()
-            .map(|a| Attribute {
-                name: a.name.clone(),
-                components: a.components,
-                values: order
-                    .iter()
-                    .flat_map(|&v| &a.values[v * a.components..(v + 1) * a.components])
-                    .copied()
-                    .collect(),
-            })
-            .collect(),
+        attributes: mesh.attributes.iter().map(|a| a.gather(&order)).collect(),
     };
     (repaired, report)
 }

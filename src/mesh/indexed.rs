@@ -9,6 +9,23 @@ pub struct Attribute {
     pub values: Vec<f32>,
 }
 
+impl Attribute {
+    /// The channel on the vertices `order` names, in that order: vertex `i` of the result takes
+    /// the values of vertex `order[i]`.
+    pub fn gather(&self, order: &[usize]) -> Attribute {
+        let k = self.components;
+        Attribute {
+            name: self.name.clone(),
+            components: k,
+            values: order
+                .iter()
+                .flat_map(|&v| &self.values[v * k..(v + 1) * k])
+                .copied()
+                .collect(),
+        }
+    }
+}
+
 /// The exchange form of a triangle mesh: what readers produce and writers consume.
 ///
 /// It may be broken in any way a file can be (open, non-manifold, degenerate); `validate` says how.

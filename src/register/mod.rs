@@ -82,6 +82,16 @@ pub fn fine_align(
     ))
 }
 
+/// What a registration aligns a mesh onto.
+#[derive(Debug, Clone, Copy)]
+pub enum Target<'a> {
+    /// A mesh: its tree, and on it the rigid pre-alignment, are built while the graph is.
+    Mesh(&'a IndexedMesh),
+    /// A tree already built over the target (the tracker builds one per frame for its other
+    /// stages too); the report's `bvh_time` is then zero.
+    Tree(&'a Bvh),
+}
+
 /// Deforms `mesh` onto `target`: coarse graph registration, then fine alignment. Projection runs on
 /// `backend`; everything else on the CPU. Vertex ids and connectivity are untouched; only positions
 /// change.
@@ -92,61 +102,51 @@ pub fn fine_align(
 pub fn register(
     backend: &Backend,
     mesh: &mut Mesh,
-    target: &IndexedMesh,
+    target: Target,
     options: &RegisterOptions,
 ) -> Result<RegistrationReport, RegisterError> {
     let total = Instant::now();
-    let slots: Vec<VertexId> = mesh.vertices().collect();
     let source = mesh.to_indexed();
     let t = Instant::now();
-    // The target's tree and, on it, the rigid pre-alignment are built while the graph is.
-    let (setup, beside) = Setup::build(&source, options, |surface, samples| {
-        let t = Instant::now();
-        let bvh = Bvh::build(target).map_err(|e| match e {
-            ProjectError::Target(source) => RegisterError::Mesh {
-                which: "target",
-                source,
-            },
-            other => RegisterError::Correspondence(other),
-        })?;
-        let bvh_time = t.elapsed();
-        check_scale(&bvh)?;
-        let projector = Projector {
-            backend,
-            bvh: &bvh,
-            max_angle_degrees: options.max_angle_degrees,
-        };
-        let rigid = rigid_start(&projector, surface, samples, &options.coarse)?;
-        Ok::<_, RegisterError>((bvh, bvh_time, rigid))
-    })?;
-    let (bvh, bvh_time, rigid) = beside?;
-    let projector = Projector {
-        backend,
-        bvh: &bvh,
-        max_angle_degrees: options.max_angle_degrees,
+    let mut report = match target {
+        Target::Tree(bvh) => {
+            check_scale(bvh)?;
+            let coarse = CoarseSolver::new(backend, bvh, &source, options)?;
+            finish(backend, mesh, bvh, coarse, t.elapsed(), options)?
+        }
+        Target::Mesh(target) => {
+            let (setup, beside) = Setup::build(&source, options, |surface, samples| {
+                let t = Instant::now();
+                let bvh = Bvh::build(target).map_err(|e| match e {
+                    ProjectError::Target(source) => RegisterError::Mesh {
+                        which: "target",
+                        source,
+                    },
+                    other => RegisterError::Correspondence(other),
+                })?;
+                let bvh_time = t.elapsed();
+                check_scale(&bvh)?;
+                let projector = Projector {
+                    backend,
+                    bvh: &bvh,
+                    max_angle_degrees: options.max_angle_degrees,
+                };
+                let rigid = rigid_start(&projector, surface, samples, &options.coarse)?;
+                Ok::<_, RegisterError>((bvh, bvh_time, rigid))
+            })?;
+            let (bvh, bvh_time, rigid) = beside?;
+            let projector = Projector {
+                backend,
+                bvh: &bvh,
+                max_angle_degrees: options.max_angle_degrees,
+            };
+            let coarse =
+                CoarseSolver::from_setup(Box::new(projector), setup, rigid, &options.coarse)?;
+            let mut report = finish(backend, mesh, &bvh, coarse, t.elapsed(), options)?;
+            report.bvh_time = bvh_time;
+            report
+        }
     };
-    let coarse = CoarseSolver::from_setup(Box::new(projector), setup, rigid, &options.coarse)?;
-    let mut report = finish(backend, mesh, &slots, &bvh, coarse, t.elapsed(), options)?;
-    report.bvh_time = bvh_time;
-    report.total_time = total.elapsed();
-    Ok(report)
-}
-
-/// [`register`] onto the target behind an already built `bvh` (the tracker builds one per frame for
-/// its other stages too); the report's `bvh_time` is zero.
-pub fn register_onto(
-    backend: &Backend,
-    mesh: &mut Mesh,
-    bvh: &Bvh,
-    options: &RegisterOptions,
-) -> Result<RegistrationReport, RegisterError> {
-    let total = Instant::now();
-    let slots: Vec<VertexId> = mesh.vertices().collect();
-    let source = mesh.to_indexed();
-    check_scale(bvh)?;
-    let t = Instant::now();
-    let coarse = CoarseSolver::new(backend, bvh, &source, options)?;
-    let mut report = finish(backend, mesh, &slots, bvh, coarse, t.elapsed(), options)?;
     report.total_time = total.elapsed();
     Ok(report)
 }
@@ -159,12 +159,11 @@ fn check_scale(bvh: &Bvh) -> Result<(), RegisterError> {
     }
 }
 
-/// The coarse stage's schedule, then the fine stage, written back to `mesh` (whose vertices
-/// `slots` lists); `setup_time` is what setting up `coarse` took.
+/// The coarse stage's schedule, then the fine stage, written back to `mesh`; `setup_time` is what
+/// setting up `coarse` took.
 fn finish(
     backend: &Backend,
     mesh: &mut Mesh,
-    slots: &[VertexId],
     bvh: &Bvh,
     mut coarse: CoarseSolver,
     setup_time: Duration,
@@ -187,6 +186,8 @@ fn finish(
         &options.fine,
     )?;
     let fine_time = t.elapsed();
+    // The solver's vertices are the mesh's live ones in slot order (`to_indexed`'s order).
+    let slots: Vec<VertexId> = mesh.vertices().collect();
     for (&slot, &p) in slots.iter().zip(&fine) {
         mesh.set_position(slot, surface.units.to_world(p));
     }

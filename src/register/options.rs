@@ -149,74 +149,86 @@ impl Default for FineOptions {
     }
 }
 
-fn positive(name: &'static str, value: f64) -> Result<(), RegisterError> {
-    if value.is_finite() && value > 0.0 {
+/// `Ok` when `holds`, else the option error naming `name`, what it must be and its `value`.
+fn require(
+    holds: bool,
+    name: &'static str,
+    expected: &'static str,
+    value: f64,
+) -> Result<(), RegisterError> {
+    if holds {
         Ok(())
     } else {
         Err(RegisterError::Option {
             name,
-            expected: "finite and positive",
+            expected,
             value,
         })
     }
 }
 
+/// A check of one numeric option.
+type Check = fn(&'static str, f64) -> Result<(), RegisterError>;
+
+fn positive(name: &'static str, value: f64) -> Result<(), RegisterError> {
+    require(
+        value.is_finite() && value > 0.0,
+        name,
+        "finite and positive",
+        value,
+    )
+}
+
 fn non_negative(name: &'static str, value: f64) -> Result<(), RegisterError> {
-    if value.is_finite() && value >= 0.0 {
-        Ok(())
-    } else {
-        Err(RegisterError::Option {
-            name,
-            expected: "finite and non-negative",
-            value,
-        })
-    }
+    require(
+        value.is_finite() && value >= 0.0,
+        name,
+        "finite and non-negative",
+        value,
+    )
 }
 
 impl RegisterOptions {
     pub fn check(&self) -> Result<(), RegisterError> {
         self.graph.check()?;
         let angle = f64::from(self.max_angle_degrees);
-        if !(0.0..=180.0).contains(&angle) {
-            return Err(RegisterError::Option {
-                name: "max angle",
-                expected: "between 0 and 180 degrees",
-                value: angle,
-            });
+        let within = (0.0..=180.0).contains(&angle);
+        require(within, "max angle", "between 0 and 180 degrees", angle)?;
+        let (c, f) = (&self.coarse, &self.fine);
+        let iterations = c.max_stage_iterations > 0;
+        require(iterations, "coarse max stage iterations", "at least 1", 0.0)?;
+        let (distance, expected) = (c.max_distance, "positive (infinity for no limit)");
+        require(distance > 0.0, "coarse max distance", expected, distance)?;
+        let checks = [
+            ("coarse alpha_fit", c.alpha_fit, positive as Check),
+            ("coarse alpha_reg_start", c.alpha_reg_start, positive),
+            ("coarse alpha_reg_floor", c.alpha_reg_floor, positive),
+            ("coarse plane weight", c.plane_weight, non_negative),
+            ("coarse point weight", c.point_weight, positive),
+            ("coarse smooth weight", c.smooth_weight, non_negative),
+            ("coarse relax threshold", c.relax_threshold, positive),
+            (
+                "coarse sample spacing",
+                f64::from(c.sample_spacing),
+                non_negative,
+            ),
+            ("coarse cg tolerance", c.cg_tolerance, positive),
+            ("fine sigma", f.sigma, positive),
+            ("fine plane weight", f.plane_weight, non_negative),
+            ("fine point weight", f.point_weight, positive),
+            ("fine disp weight", f.disp_weight, non_negative),
+            ("fine edge weight", f.edge_weight, non_negative),
+            ("fine cover weight", f.cover_weight, non_negative),
+            (
+                "fine cover minimum distance",
+                f.cover_min_distance,
+                non_negative,
+            ),
+            ("fine tolerance", f.tolerance, positive),
+        ];
+        for (name, value, check) in checks {
+            check(name, value)?;
         }
-        let c = &self.coarse;
-        positive("coarse alpha_fit", c.alpha_fit)?;
-        positive("coarse alpha_reg_start", c.alpha_reg_start)?;
-        positive("coarse alpha_reg_floor", c.alpha_reg_floor)?;
-        non_negative("coarse plane weight", c.plane_weight)?;
-        positive("coarse point weight", c.point_weight)?;
-        non_negative("coarse smooth weight", c.smooth_weight)?;
-        positive("coarse relax threshold", c.relax_threshold)?;
-        if c.max_stage_iterations == 0 {
-            return Err(RegisterError::Option {
-                name: "coarse max stage iterations",
-                expected: "at least 1",
-                value: 0.0,
-            });
-        }
-        non_negative("coarse sample spacing", f64::from(c.sample_spacing))?;
-        positive("coarse cg tolerance", c.cg_tolerance)?;
-        if c.max_distance.is_nan() || c.max_distance <= 0.0 {
-            return Err(RegisterError::Option {
-                name: "coarse max distance",
-                expected: "positive (infinity for no limit)",
-                value: c.max_distance,
-            });
-        }
-        let f = &self.fine;
-        positive("fine sigma", f.sigma)?;
-        non_negative("fine plane weight", f.plane_weight)?;
-        positive("fine point weight", f.point_weight)?;
-        non_negative("fine disp weight", f.disp_weight)?;
-        non_negative("fine edge weight", f.edge_weight)?;
-        non_negative("fine cover weight", f.cover_weight)?;
-        non_negative("fine cover minimum distance", f.cover_min_distance)?;
-        positive("fine tolerance", f.tolerance)?;
         Ok(())
     }
 }

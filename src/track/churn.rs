@@ -20,6 +20,14 @@ pub struct Churn {
 }
 
 impl Churn {
+    fn plus(&self, other: &Churn) -> Churn {
+        Churn {
+            created: self.created + other.created,
+            removed: self.removed + other.removed,
+            lost: self.lost + other.lost,
+        }
+    }
+
     /// The churn of `records`, against the ids the frame began with.
     pub(crate) fn of<'a>(
         records: impl IntoIterator<Item = &'a Mutation>,
@@ -51,6 +59,16 @@ pub struct StageChurn {
 }
 
 impl StageChurn {
+    /// The two frames' churn together, stage by stage.
+    pub fn plus(&self, other: &StageChurn) -> StageChurn {
+        StageChurn {
+            improve: self.improve.plus(&other.improve),
+            topology_self: self.topology_self.plus(&other.topology_self),
+            topology_target: self.topology_target.plus(&other.topology_target),
+            subgrid: self.subgrid.plus(&other.subgrid),
+        }
+    }
+
     /// Vertices of the frame's start lost, over every stage.
     pub fn lost(&self) -> usize {
         self.improve.lost + self.topology_self.lost + self.topology_target.lost + self.subgrid.lost

@@ -18,7 +18,7 @@ use crate::grid::{GridFrame, RasterError};
 use crate::improve::{ImproveError, ImproveParams, improve};
 use crate::mesh::{IndexedMesh, Mesh, MeshError};
 use crate::project::{Bvh, ProjectError, closest_points};
-use crate::register::{RegisterError, RegisterOptions, register_onto};
+use crate::register::{RegisterError, RegisterOptions, Target, register};
 use crate::topology::subgrid::{Fidelity, SubgridCounts, SubgridError, match_and_improve};
 use crate::topology::{Field, TopologyError, TopologyOptions, constrain_topology};
 use churn::Marks;
@@ -88,24 +88,42 @@ impl Default for TrackOptions {
     }
 }
 
+/// Why tracking stopped: the frame, and what its stage reported.
 #[derive(Debug, Error)]
 pub enum TrackError {
     #[error("frame {frame}: {source}")]
-    Mesh { frame: usize, source: MeshError },
-    #[error("frame {frame}: registration failed: {source}")]
-    Register { frame: usize, source: RegisterError },
-    #[error("frame {frame}: mesh improvement failed: {source}")]
-    Improve { frame: usize, source: ImproveError },
-    #[error("frame {frame}: topology step failed: {source}")]
-    Topology { frame: usize, source: TopologyError },
-    #[error("frame {frame}: {source}")]
-    Project { frame: usize, source: ProjectError },
-    #[error("frame {frame}: matching components below the grid's resolution: {source}")]
-    Reconcile { frame: usize, source: SubgridError },
-    #[error("frame {frame}: cannot place the topology grid: {source}")]
-    Grid { frame: usize, source: RasterError },
+    Stage { frame: usize, source: StageError },
     #[error("the target edge length {0} is not a positive finite number")]
     EdgeLength(f32),
+}
+
+impl TrackError {
+    /// The error `source` of a stage of frame `frame`.
+    fn at(frame: usize, source: impl Into<StageError>) -> Self {
+        TrackError::Stage {
+            frame,
+            source: source.into(),
+        }
+    }
+}
+
+/// The error of one stage of Algorithm 1, as the stage reports it.
+#[derive(Debug, Error)]
+pub enum StageError {
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    #[error("registration failed: {0}")]
+    Register(#[from] RegisterError),
+    #[error("mesh improvement failed: {0}")]
+    Improve(#[from] ImproveError),
+    #[error("topology step failed: {0}")]
+    Topology(#[from] TopologyError),
+    #[error(transparent)]
+    Project(#[from] ProjectError),
+    #[error("matching components below the grid's resolution: {0}")]
+    Subgrid(#[from] SubgridError),
+    #[error("cannot place the topology grid: {0}")]
+    Grid(#[from] RasterError),
 }
 
 /// Wall-clock time of each stage of one frame, in milliseconds.
@@ -197,15 +215,13 @@ impl Tracker {
         let mut fresh = first.clone();
         fresh.ids = None;
         fresh.attributes.clear();
-        let mesh =
-            Mesh::from_indexed(&fresh).map_err(|source| TrackError::Mesh { frame: 0, source })?;
+        let mesh = Mesh::from_indexed(&fresh).map_err(|e| TrackError::at(0, e))?;
         let edge_length = options
             .edge_length
             .unwrap_or_else(|| first.mean_edge_length());
         let mut tracker = Self::with_mesh(mesh, edge_length, options)?;
         let t = Instant::now();
-        improve(&mut tracker.mesh, &tracker.params)
-            .map_err(|source| TrackError::Improve { frame: 0, source })?;
+        improve(&mut tracker.mesh, &tracker.params).map_err(|e| TrackError::at(0, e))?;
         let improve_time = t.elapsed();
         let events = EventList::drain(&mut tracker.mesh);
         tracker.mesh.compact();
@@ -213,7 +229,7 @@ impl Tracker {
             improve: ms(improve_time),
             ..StageTimes::default()
         };
-        let bvh = Bvh::build(first).map_err(|source| TrackError::Project { frame: 0, source })?;
+        let bvh = Bvh::build(first).map_err(|e| TrackError::at(0, e))?;
         let (mean, max) = tracker.residual(backend, &bvh, 0, &mut times)?;
         times.total = ms(start.elapsed());
         let log = tracker.log(0, &events, (mean, max), true, false, times);
@@ -228,8 +244,7 @@ impl Tracker {
         edge_length: f32,
         options: &TrackOptions,
     ) -> Result<Self, TrackError> {
-        let mut mesh =
-            Mesh::from_indexed(mesh).map_err(|source| TrackError::Mesh { frame: 0, source })?;
+        let mut mesh = Mesh::from_indexed(mesh).map_err(|e| TrackError::at(0, e))?;
         mesh.reserve_ids_below(next_id);
         Self::with_mesh(mesh, edge_length, options)
     }
@@ -246,7 +261,7 @@ impl Tracker {
             return Err(TrackError::EdgeLength(edge_length));
         }
         let grid = GridFrame::new(glam::Vec3::ZERO, options.grid_factor * edge_length)
-            .map_err(|source| TrackError::Grid { frame: 0, source })?;
+            .map_err(|e| TrackError::at(0, e))?;
         let params = ImproveParams {
             edge_length,
             ..options.improve.clone()
@@ -280,7 +295,7 @@ impl Tracker {
         let before: FxHashSet<u64> = self.mesh.vertices().map(|v| self.mesh.id(v)).collect();
         let mut marks = Marks::default();
         // The target's tree serves the projection baseline, the sub-grid match and the residual.
-        let bvh = Bvh::build(target).map_err(|source| TrackError::Project { frame, source })?;
+        let bvh = Bvh::build(target).map_err(|e| TrackError::at(frame, e))?;
         // Lines 5–6: M follows T_j; Φ(T_j) is sampled meanwhile.
         let (converged, phi_t) = self.follow(backend, frame, target, &bvh, &mut times)?;
         // Line 7: improve.
@@ -290,7 +305,7 @@ impl Tracker {
         // Lines 8–9: merge M's self-intersections, ConstrainTopology(M, Φ(M)).
         let t = Instant::now();
         let phi_m = Field::signed_distance(backend, self.grid, &self.mesh.to_indexed())
-            .map_err(|source| TrackError::Topology { frame, source })?;
+            .map_err(|e| TrackError::at(frame, e))?;
         let mark = self.mesh.journal_len();
         let merged = self.constrain(frame, &phi_m)?;
         marks.topology_self = mark..self.mesh.journal_len();
@@ -314,7 +329,7 @@ impl Tracker {
             self.options.fidelity,
             &self.params,
         )
-        .map_err(|source| TrackError::Reconcile { frame, source })?;
+        .map_err(|e| TrackError::at(frame, e))?;
         times.improve += ms(matched.improve);
         times.reconcile = ms(t.elapsed()) - ms(matched.improve);
         marks.subgrid = mark..self.mesh.journal_len();
@@ -358,17 +373,14 @@ impl Tracker {
         let (mesh, options, grid) = (&mut self.mesh, &self.options, self.grid);
         let (moved, phi_t) = rayon::join(
             || match options.motion {
-                Motion::Register => register_onto(backend, mesh, bvh, &options.register)
+                Motion::Register => register(backend, mesh, Target::Tree(bvh), &options.register)
                     .map(|report| report.converged())
-                    .map_err(|source| TrackError::Register { frame, source }),
+                    .map_err(|e| TrackError::at(frame, e)),
                 Motion::Project => project_onto(backend, mesh, bvh)
                     .map(|()| true)
-                    .map_err(|source| TrackError::Project { frame, source }),
+                    .map_err(|e| TrackError::at(frame, e)),
             },
-            || {
-                Field::signed_distance(backend, grid, target)
-                    .map_err(|source| TrackError::Topology { frame, source })
-            },
+            || Field::signed_distance(backend, grid, target).map_err(|e| TrackError::at(frame, e)),
         );
         let converged = moved?;
         let phi_t = phi_t?;
@@ -380,14 +392,13 @@ impl Tracker {
     fn constrain(&mut self, frame: usize, theta: &Field) -> Result<bool, TrackError> {
         constrain_topology(&mut self.mesh, theta, &self.options.topology)
             .map(|report| report.changed())
-            .map_err(|source| TrackError::Topology { frame, source })
+            .map_err(|e| TrackError::at(frame, e))
     }
 
     /// Improves the mesh (paper §4.1), adding its time.
     fn improve(&mut self, frame: usize, times: &mut StageTimes) -> Result<(), TrackError> {
         let t = Instant::now();
-        improve(&mut self.mesh, &self.params)
-            .map_err(|source| TrackError::Improve { frame, source })?;
+        improve(&mut self.mesh, &self.params).map_err(|e| TrackError::at(frame, e))?;
         times.improve += ms(t.elapsed());
         Ok(())
     }
@@ -401,7 +412,7 @@ impl Tracker {
         times: &mut StageTimes,
     ) -> Result<(f64, f64), TrackError> {
         let t = Instant::now();
-        let project = |source| TrackError::Project { frame, source };
+        let project = |e: ProjectError| TrackError::at(frame, e);
         let points: Vec<glam::Vec3> = self
             .mesh
             .vertices()

@@ -27,6 +27,13 @@ struct Buffers {
 }
 
 impl GpuRasterize {
+    /// Every crossing of `mesh`, by the kernel: upload, dispatch, read back.
+    pub fn run(context: &GpuContext, mesh: &LatticeMesh) -> Result<Vec<GridCrossing>, RasterError> {
+        let job = Self::upload(context, mesh)?;
+        job.dispatch(context)?;
+        job.read(context)
+    }
+
     /// Uploads the lattice mesh and the per-triangle candidate offsets (a prefix sum over the
     /// triangles' cell ranges, computed here).
     pub fn upload(context: &GpuContext, mesh: &LatticeMesh) -> Result<Self, RasterError> {

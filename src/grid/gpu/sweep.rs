@@ -23,6 +23,16 @@ struct Buffers {
 }
 
 impl GpuSweep {
+    /// The winding runs of `crossings`, by the kernel: upload, dispatch, read back.
+    pub fn run(
+        context: &GpuContext,
+        crossings: &Crossings,
+    ) -> Result<Vec<WindingRun>, RasterError> {
+        let job = Self::upload(context, crossings)?;
+        job.dispatch(context)?;
+        job.read(context)
+    }
+
     pub fn upload(context: &GpuContext, crossings: &Crossings) -> Result<Self, RasterError> {
         if crossings.is_empty() {
             return Ok(Self { buffers: None });

@@ -1,4 +1,3 @@
-use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 use crate::compute::parity::{ParityValue, Scalar};
@@ -10,8 +9,6 @@ gpu_struct! {
     /// Mirrors `struct Aabb` in `kernels/shared/aabb.wgsl`: WGSL aligns `vec3<f32>` to 16 bytes, so
     /// each corner carries a trailing `u32` that is always 0, which keeps every byte defined and lets
     /// GPU and CPU results be compared bit for bit.
-    #[repr(C)]
-    #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
     pub struct Aabb {
         pub min: Vec3,
         pad_min: u32,

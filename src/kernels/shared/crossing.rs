@@ -1,5 +1,3 @@
-use bytemuck::{Pod, Zeroable};
-
 gpu_struct! {
     mirrors CROSSING;
     /// One crossing of a triangle with a grid edge (thesis §3.4.2): the edge from `corner` to
@@ -9,8 +7,6 @@ gpu_struct! {
     /// Mirrors `struct GridCrossing` in `kernels/shared/crossing.wgsl`, which the rasterize kernel writes
     /// and the sweep kernel reads. Under the grid's symbolic perturbation a crossing never sits on a
     /// corner: `t` is in `[0, 1)`, and `t == 0` means "just past `corner`".
-    #[repr(C)]
-    #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
     pub struct GridCrossing {
         /// Lower corner of the grid edge.
         pub corner: [i32; 3],
@@ -62,8 +58,7 @@ gpu_struct! {
     ///
     /// Mirrors `struct WindingRun` in `kernels/shared/crossing.wgsl`; the sweep kernel writes
     /// [`WindingRun::CONTINUES`] in the slot of a crossing that is not the last on its grid edge.
-    #[repr(C)]
-    #[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
+    #[derive(Eq)]
     pub struct WindingRun {
         pub start: i32,
         pub winding: i32,

@@ -1,8 +1,6 @@
 //! Mirrors of `kernels/shared/distance.wgsl`: the triangle tree over a lattice mesh, the band's
 //! chunks and tiles of candidate corners, and the nearest triangle found for each.
 
-use bytemuck::{Pod, Zeroable};
-
 /// Most triangles one invocation gathers for a tile (`GATHER_CAPACITY` in
 /// `kernels/shared/distance.wgsl`); a tile near more searches the tree once per corner.
 pub const GATHER_CAPACITY: usize = 256;
@@ -18,8 +16,6 @@ gpu_struct! {
     /// [`Nearest::NONE`] when no triangle lies within the band.
     ///
     /// Mirrors `struct Nearest` in `kernels/shared/distance.wgsl`.
-    #[repr(C)]
-    #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
     pub struct Nearest {
         pub distance_squared: f32,
         pub slot: u32,
@@ -35,8 +31,6 @@ gpu_struct! {
     /// The tree's base cell and the band's squared half-width in cells.
     ///
     /// Mirrors `struct DistanceParams` in `kernels/shared/distance.wgsl`.
-    #[repr(C)]
-    #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
     pub struct DistanceParams {
         pub base: [i32; 3],
         pub bound: f32,
@@ -49,8 +43,7 @@ gpu_struct! {
     /// candidate corners that lies in one tile.
     ///
     /// Mirrors `struct BandChunk` in `kernels/shared/distance.wgsl`.
-    #[repr(C)]
-    #[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
+    #[derive(Eq)]
     pub struct BandChunk {
         pub first: [i32; 3],
         pub len: u32,
@@ -64,8 +57,7 @@ gpu_struct! {
     /// `TILE_ROWS` × `TILE_ROWS` candidate corners whose triangles are gathered once.
     ///
     /// Mirrors `struct BandTile` in `kernels/shared/distance.wgsl`.
-    #[repr(C)]
-    #[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
+    #[derive(Eq)]
     pub struct BandTile {
         pub first: u32,
         pub count: u32,
@@ -78,8 +70,6 @@ gpu_struct! {
     /// leaf holding triangle slots `index .. index + count`. Box in cells from the tree's base cell.
     ///
     /// Mirrors `struct TreeNode` in `kernels/shared/distance.wgsl`.
-    #[repr(C)]
-    #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
     pub struct TreeNode {
         pub min: [f32; 3],
         pub index: u32,
@@ -95,8 +85,6 @@ gpu_struct! {
     /// distance to the plane is a lower bound of the distance to the triangle, and often a tight one.
     ///
     /// Mirrors `struct TreeTriangle` in `kernels/shared/distance.wgsl`.
-    #[repr(C)]
-    #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
     pub struct TreeTriangle {
         pub base: [i32; 3],
         pub id: u32,
@@ -113,8 +101,6 @@ gpu_struct! {
     /// A triangle's bounding box in cells from the tree's base cell, rounded outwards; in leaf order.
     ///
     /// Mirrors `struct TriangleBox` in `kernels/shared/distance.wgsl`.
-    #[repr(C)]
-    #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
     pub struct TriangleBox {
         pub min: [f32; 3],
         pub max: [f32; 3],

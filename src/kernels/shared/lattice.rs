@@ -1,7 +1,6 @@
 //! Mirror of `kernels/shared/lattice.wgsl`: a point of the grid's fixed lattice, and the limits of
 //! the lattice that the exact predicates on both backends rely on.
 
-use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 /// Fractional bits of a lattice coordinate: a cell is `2^FRACTION_BITS` lattice units wide.
@@ -28,8 +27,7 @@ gpu_struct! {
     /// The cell is the one the point lies in under the grid's symbolic perturbation (the mesh shifted by
     /// `(ε, ε², ε³)`, see `grid/predicates.rs`): a point exactly on the plane `x = i` belongs to cell `i`,
     /// as `floor` says. Mirrors `struct LatticePoint` in `kernels/shared/lattice.wgsl`.
-    #[repr(C)]
-    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Pod, Zeroable)]
+    #[derive(Eq, Hash, PartialOrd, Ord)]
     pub struct LatticePoint {
         pub cell: [i32; 3],
         pub frac: [u32; 3],

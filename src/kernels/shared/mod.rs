@@ -12,6 +12,8 @@ macro_rules! gpu_struct {
             $($(#[$field_attr:meta])* $field_vis:vis $field:ident: $ty:ty),* $(,)?
         }
     ) => {
+        #[repr(C)]
+        #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
         $(#[$attr])*
         $vis struct $name {
             $($(#[$field_attr])* $field_vis $field: $ty),*

@@ -1,4 +1,3 @@
-use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 /// What became of one query.
@@ -41,8 +40,6 @@ gpu_struct! {
     ///
     /// Mirrors `struct Correspondence` in `kernels/shared/bvh.wgsl`. For a miss every field but
     /// `status` is 0 and `triangle` is [`Correspondence::NO_TRIANGLE`].
-    #[repr(C)]
-    #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
     pub struct Correspondence {
         /// The point on the target.
         pub point: Vec3,

@@ -1,5 +1,3 @@
-use bytemuck::{Pod, Zeroable};
-
 gpu_struct! {
     mirrors BVH;
     /// One node of the flattened 4-wide BVH that both the CPU traversal and the WGSL kernels read.
@@ -7,8 +5,7 @@ gpu_struct! {
     /// Mirrors `struct BvhNode` in `kernels/shared/bvh.wgsl`. The four children's boxes are stored
     /// axis by axis (`min_x[k]` … `max_z[k]` for child `k`), so one SIMD step tests all four; with
     /// 128 bytes aligned to 64, a node is two whole cache lines.
-    #[repr(C, align(64))]
-    #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+    #[repr(align(64))]
     pub struct BvhNode {
         pub min_x: [f32; 4],
         pub min_y: [f32; 4],

@@ -1,5 +1,3 @@
-use bytemuck::{Pod, Zeroable};
-
 /// Largest closest-point search radius: its square, 10³⁶, is still a finite f32.
 const MAX_CLOSEST_DISTANCE: f32 = 1e18;
 
@@ -8,8 +6,6 @@ gpu_struct! {
     /// Per-dispatch parameters of the query kernels.
     ///
     /// Mirrors `struct QueryParams` in `kernels/shared/bvh.wgsl`.
-    #[repr(C)]
-    #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
     pub struct QueryParams {
         /// Largest `|t|` (projection) or distance (closest point) searched, in the target's units.
         pub max_distance: f32,

@@ -1,4 +1,3 @@
-use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 gpu_struct! {
@@ -8,8 +7,6 @@ gpu_struct! {
     ///
     /// Mirrors `struct BvhTriangle` in `kernels/shared/bvh.wgsl`. Corners are stored by value rather
     /// than as vertex indices so a leaf test reads one contiguous record; the padding words are 0.
-    #[repr(C)]
-    #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
     pub struct BvhTriangle {
         pub a: Vec3,
         /// Index of the triangle in the target mesh.
@@ -44,8 +41,6 @@ gpu_struct! {
     /// one per edge (`a` for edge ab, `b` for bc, `c` for ca).
     ///
     /// Mirrors `struct NormalTriple` in `kernels/shared/bvh.wgsl`; the padding words are 0.
-    #[repr(C)]
-    #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
     pub struct NormalTriple {
         pub a: Vec3,
         pad_a: u32,
@@ -89,8 +84,6 @@ gpu_struct! {
     /// vertex or lies on an edge, where the face normal alone can give the wrong side.
     ///
     /// Mirrors `struct PseudoNormals` in `kernels/shared/bvh.wgsl`.
-    #[repr(C)]
-    #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
     pub struct PseudoNormals {
         /// At corners a, b, c: the angle-weighted mean of the incident face normals.
         pub vertices: NormalTriple,
