@@ -243,7 +243,7 @@ fn describe(
 ) -> IoError {
     let path = path.to_path_buf();
     let name = &element.name;
-    let malformed = |path, reason| IoError::Malformed { path, at, reason };
+    let malformed = |path, at, reason| IoError::Malformed { path, at, reason };
     match problem {
         Problem::Fault(Fault::Truncated) => IoError::Truncated {
             path,
@@ -253,14 +253,17 @@ fn describe(
         Problem::Fault(Fault::NotANumber(text)) => IoError::NotANumber { path, at, text },
         Problem::Fault(Fault::OutOfRange(text, ty)) => malformed(
             path,
+            at,
             format!("{text} does not fit the declared type {}", ty.name()),
         ),
         Problem::Fault(Fault::MissingValue) => malformed(
             path,
+            at,
             format!("the {name} record ends before all its values"),
         ),
         Problem::Fault(Fault::ExtraValues) => malformed(
             path,
+            at,
             format!("the {name} record has more values than the header declares"),
         ),
         Problem::IndexOutOfRange(index) => IoError::IndexOutOfRange {
@@ -276,6 +279,7 @@ fn describe(
         },
         Problem::BadId(id) => malformed(
             path,
+            at,
             format!("vertex id {id} is not a non-negative integer"),
         ),
         Problem::NegativeCount(count) => IoError::InvalidCount {
