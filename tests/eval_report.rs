@@ -4,10 +4,9 @@
 mod propagate_support;
 
 use glam::Vec3;
-use propagate_support::{Ops, write_events, write_frame, write_sequence};
+use propagate_support::{Ops, surftrack, write_events, write_frame, write_sequence};
 use std::collections::HashMap;
 use std::path::Path;
-use std::process::{Command, Output};
 use surftrack::eval::{EvalError, EvalOptions, evaluate};
 use surftrack::events::EventList;
 use surftrack::io::{Format, read_frame, write_ply};
@@ -264,13 +263,6 @@ fn mismatched_topology_and_missing_input_are_reported() {
     );
     let err = evaluate(dir.path(), &EvalOptions::default()).unwrap_err();
     assert!(matches!(err, EvalError::NoInput { .. }), "{err}");
-}
-
-fn surftrack(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_surftrack"))
-        .args(args)
-        .output()
-        .expect("the surftrack binary runs")
 }
 
 #[test]

@@ -5,7 +5,7 @@
 mod propagate_support;
 
 use glam::{Mat4, Vec3};
-use propagate_support::{Ops, channel, write_sequence};
+use propagate_support::{Ops, channel, ok, surftrack, write_sequence};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use surftrack::export::VELOCITY;
@@ -14,24 +14,6 @@ use surftrack::mesh::IndexedMesh;
 use surftrack::synth::Manifest;
 
 const FPS: f32 = 24.0;
-
-fn surftrack(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_surftrack"))
-        .args(args)
-        .stdin(Stdio::null())
-        .output()
-        .expect("the surftrack binary runs")
-}
-
-fn ok(output: &Output) -> String {
-    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
-    assert!(
-        output.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    stdout
-}
 
 fn refused(output: &Output) -> String {
     assert!(!output.status.success(), "accepted");

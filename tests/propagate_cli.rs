@@ -4,29 +4,11 @@
 mod propagate_support;
 
 use glam::Vec3;
-use propagate_support::{Ops, channel, write_sequence};
+use propagate_support::{Ops, channel, ok, surftrack, write_sequence};
 use std::path::Path;
-use std::process::{Command, Output};
 use surftrack::io::{read_frame, write_ply};
 use surftrack::mesh::Attribute;
 use surftrack::propagate::{Bounds, Checker, LIGHT, Projection, Texture};
-
-fn surftrack(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_surftrack"))
-        .args(args)
-        .output()
-        .expect("the surftrack binary runs")
-}
-
-fn ok(output: &Output) -> String {
-    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
-    assert!(
-        output.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    stdout
-}
 
 fn path(p: &Path) -> &str {
     p.to_str().unwrap()

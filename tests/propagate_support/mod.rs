@@ -6,6 +6,7 @@
 
 use glam::Vec3;
 use std::path::Path;
+use std::process::{Command, Output, Stdio};
 use surftrack::events::EventList;
 use surftrack::events::file::encode;
 use surftrack::io::write_ply;
@@ -151,4 +152,24 @@ pub fn channel<'a>(mesh: &'a IndexedMesh, name: &str) -> (&'a Attribute, Vec<&'a
         .find(|a| a.name == name)
         .unwrap_or_else(|| panic!("no channel {name}"));
     (a, a.values.chunks_exact(a.components).collect())
+}
+
+/// Runs the `surftrack` binary with `args` (no input on stdin).
+pub fn surftrack(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_surftrack"))
+        .args(args)
+        .stdin(Stdio::null())
+        .output()
+        .expect("the surftrack binary runs")
+}
+
+/// The standard output of a run that must have succeeded; its output and errors when it did not.
+pub fn ok(output: &Output) -> String {
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        output.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    stdout
 }
