@@ -1,5 +1,6 @@
-//! Patch replacement: the mesh takes a new surface only with a record that accounts for every
-//! vertex it gains and loses, journals that record as events, and carries attributes by its rules.
+//! Patch replacement: the mesh takes a new surface (a valid `Mesh`, so an open one cannot be
+//! offered) only with a record that accounts for every vertex it gains and loses, journals that
+//! record as events, and carries attributes by its rules.
 
 use glam::Vec3;
 use surftrack::events::{EventKind, EventList};
@@ -42,6 +43,7 @@ fn a_recorded_replacement_is_journaled_and_carries_attributes() {
         },
     ];
     let expected = 0.25 * surface.positions[0].x + 0.75 * surface.positions[1].x;
+    let surface = Mesh::from_indexed(&surface).unwrap();
     mesh.replace(Replacement { surface, record }).unwrap();
     mesh.validate().unwrap();
     assert_eq!(mesh.next_id(), new + 1);
@@ -63,7 +65,7 @@ fn a_replacement_without_its_record_is_refused_and_changes_nothing() {
     let refuse = |mesh: &mut Mesh, record: Vec<Mutation>| {
         let err = mesh
             .replace(Replacement {
-                surface: surface.clone(),
+                surface: Mesh::from_indexed(&surface).unwrap(),
                 record,
             })
             .unwrap_err();
@@ -107,20 +109,10 @@ fn a_replacement_without_its_record_is_refused_and_changes_nothing() {
 }
 
 #[test]
-fn an_invalid_surface_is_refused() {
-    let mut mesh = sphere();
-    let (mut surface, old, new) = swapped(&mesh);
+fn an_invalid_surface_cannot_be_a_replacement() {
+    let mesh = sphere();
+    let (mut surface, _, _) = swapped(&mesh);
     surface.triangles.pop();
-    let record = vec![
-        Mutation::PatchCreated {
-            created: new,
-            sources: Vec::new(),
-        },
-        Mutation::PatchDeleted {
-            deleted: old,
-            sources: Vec::new(),
-        },
-    ];
-    let err = mesh.replace(Replacement { surface, record }).unwrap_err();
+    let err = Mesh::from_indexed(&surface).unwrap_err();
     assert!(matches!(err, MeshError::OpenBoundary { .. }), "{err}");
 }

@@ -46,8 +46,6 @@ pub enum MeshError {
 /// Why a replacement's record does not account for its surface.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
 pub enum ReplacementError {
-    #[error("the surface has no persistent ids")]
-    NoIds,
     #[error(
         "vertex {id} appears in the surface but the mesh has no such vertex and nothing creates it"
     )]

@@ -1,51 +1,48 @@
 //! Patch replacement (paper §4.3–4.4): the topology step and the sub-grid match re-sample whole
 //! regions of the surface at once — cut points on the old surface, a patch of new vertices, the old
 //! vertices inside the region removed. They hand the mesh the surface they built and the record of
-//! how every vertex came and went; the mesh checks the two against each other and against itself,
-//! carries its attribute channels by the record's forward rules, and journals the record like the
+//! how every vertex came and went. The surface is a `Mesh`, so it is closed, manifold, oriented and
+//! non-degenerate by construction, checked once where it was built; the mesh checks the record
+//! against the surface and against itself, carries its attribute channels by the record's forward rules, and journals the record like the
 //! records of its local mutations. So the journal is the one channel every change to the mesh goes
 //! through, and no stage can change the mesh without its events.
 
 use super::halfedge::Mesh;
-use super::{Attribute, IndexedMesh, MeshError, Mutation, ReplacementError};
+use super::{Attribute, MeshError, Mutation, ReplacementError};
 use rustc_hash::{FxHashMap, FxHashSet};
 
 /// A new surface for the mesh and the record of how it came from the old one.
 #[derive(Debug, Clone)]
 pub struct Replacement {
-    /// The whole surface afterwards, with persistent ids: a vertex whose id the mesh has is that
-    /// vertex (same material point); every other id is created by `record`. Its attribute channels
-    /// are ignored: the replacement derives them from the record.
-    pub surface: IndexedMesh,
+    /// The whole surface afterwards (`Mesh::from_indexed` of what the stage built, or
+    /// [`Mesh::empty`]), with persistent ids: a vertex whose id the mesh has is that vertex (same
+    /// material point); every other id is created by `record`. Its attribute channels are ignored:
+    /// the replacement derives them from the record.
+    pub surface: Mesh,
     /// Every created vertex (`SplitEdge`, `SplitFace`, `PatchCreated`) and every removed one
     /// (`PatchDeleted`), in the order the event list applies them.
     pub record: Vec<Mutation>,
 }
 
 impl Mesh {
-    /// Replaces the surface by `replacement.surface`, which must be closed, manifold, oriented and
-    /// non-degenerate (or empty), after checking that its record creates exactly the vertices the
-    /// mesh lacks and removes exactly those the surface lacks, with ids never handed out before.
-    /// Attribute channels follow the record's forward rules; the record is journaled.
+    /// Replaces the surface by `replacement.surface` after checking that its record creates
+    /// exactly the vertices the mesh lacks and removes exactly those the surface lacks, with ids
+    /// never handed out before; on a refusal the mesh is unchanged. Attribute channels follow the
+    /// record's forward rules; the record is journaled.
     pub fn replace(&mut self, replacement: Replacement) -> Result<(), MeshError> {
         let Replacement {
             mut surface,
             record,
         } = replacement;
-        let ids = surface.ids.clone().ok_or(ReplacementError::NoIds)?;
-        let next_id = self.check_record(&ids, &record)?;
-        surface.attributes = self.carried_attributes(&ids, &record);
-        let mut next = if surface.triangles.is_empty() {
-            self.emptied()
-        } else {
-            Mesh::from_indexed(&surface)?
-        };
-        next.next_id = next_id;
-        next.journal = self.journal.take();
-        if let Some(journal) = next.journal.as_mut() {
+        let live: Vec<u64> = surface.vertices().map(|v| surface.id(v)).collect();
+        let next_id = self.check_record(&live, &record)?;
+        surface.attributes = self.carried_attributes(&surface.ids, &record);
+        surface.next_id = next_id;
+        surface.journal = self.journal.take();
+        if let Some(journal) = surface.journal.as_mut() {
             journal.extend(record);
         }
-        *self = next;
+        *self = surface;
         Ok(())
     }
 
@@ -138,23 +135,15 @@ impl Mesh {
             .collect()
     }
 
-    /// A mesh with no vertices and the mesh's attribute channels, emptied.
-    fn emptied(&self) -> Mesh {
+    /// A mesh with no vertices: the surface of a replacement that removes everything.
+    pub fn empty() -> Mesh {
         Mesh {
             positions: Vec::new(),
             ids: Vec::new(),
             vertex_half_edge: Vec::new(),
             origin: Vec::new(),
             twin: Vec::new(),
-            attributes: self
-                .attributes
-                .iter()
-                .map(|a| Attribute {
-                    name: a.name.clone(),
-                    components: a.components,
-                    values: Vec::new(),
-                })
-                .collect(),
+            attributes: Vec::new(),
             free_vertices: Vec::new(),
             free_faces: Vec::new(),
             next_id: 0,

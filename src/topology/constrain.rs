@@ -203,25 +203,23 @@ enum Failure {
     Topology,
 }
 
-/// A result, with its ids, that is closed, manifold, oriented and non-degenerate (or empty) and
-/// has Θ's topology.
+/// The half-edge mesh of a result, with its ids, that is closed, manifold, oriented and
+/// non-degenerate (checked by `Mesh::from_indexed`, once) or empty, and has Θ's topology.
 fn verify(
     mesh: &IndexedMesh,
     recorded: &super::record::Recorded,
     target: &[i64],
-) -> Result<IndexedMesh, Failure> {
+) -> Result<Mesh, Failure> {
     if signature(mesh) != target {
         return Err(Failure::Topology);
+    }
+    if mesh.triangles.is_empty() {
+        return Ok(Mesh::empty());
     }
     let mut output = mesh.clone();
     output.ids = Some(recorded.ids.clone());
     output.attributes.clear();
-    if output.triangles.is_empty() {
-        output.positions.clear();
-        output.ids = Some(Vec::new());
-        return Ok(output);
-    }
-    output.validate().map(|()| output).map_err(|e| {
+    Mesh::from_indexed(&output).map_err(|e| {
         Failure::Element(match e {
             MeshError::DegenerateFace { triangle } => mesh.triangles[triangle].to_vec(),
             MeshError::OpenBoundary { a, b, .. }
@@ -265,7 +263,7 @@ fn widen(cells: &[Cell]) -> Vec<Cell> {
 
 /// What the recorded surgery did, into the report; the replacement it stands for.
 fn summarize(
-    surface: IndexedMesh,
+    surface: Mesh,
     recorded: super::record::Recorded,
     report: &mut TopologyReport,
 ) -> Replacement {

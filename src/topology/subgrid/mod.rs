@@ -153,7 +153,7 @@ pub fn match_below_grid(
     )?;
     let plan = decide::decide(&surfaces, &matched, fidelity)?;
     if plan.counts.changed() {
-        mesh.replace(rebuild::replacement(&surfaces, &plan, mesh.next_id()))?;
+        mesh.replace(rebuild::replacement(&surfaces, &plan, mesh.next_id())?)?;
     }
     Ok(plan.counts)
 }

@@ -6,11 +6,16 @@
 use super::Surfaces;
 use super::decide::Plan;
 use super::graft::Corner;
-use crate::mesh::{IndexedMesh, Mutation, Replacement};
+use crate::mesh::{IndexedMesh, Mesh, MeshError, Mutation, Replacement};
 use crate::topology::nearest::Survivors;
 
-/// The replacement `plan` stands for; created vertices take ids from `next_id` on.
-pub(super) fn replacement(s: &Surfaces, plan: &Plan, next_id: u64) -> Replacement {
+/// The replacement `plan` stands for; created vertices take ids from `next_id` on. Fails when the
+/// assembled surface is not a closed, oriented 2-manifold.
+pub(super) fn replacement(
+    s: &Surfaces,
+    plan: &Plan,
+    next_id: u64,
+) -> Result<Replacement, MeshError> {
     let (current, target, spacing) = (s.current, s.target, s.spacing);
     let (ours, our_labels) = (&s.ours.list, &s.ours.labels);
     let (theirs, their_triangles) = (&s.theirs.list, &s.theirs.triangles);
@@ -166,5 +171,8 @@ pub(super) fn replacement(s: &Surfaces, plan: &Plan, next_id: u64) -> Replacemen
     }
     let mut surface = IndexedMesh::new(positions, triangles);
     surface.ids = Some(new_ids);
-    Replacement { surface, record }
+    Ok(Replacement {
+        surface: Mesh::from_indexed(&surface)?,
+        record,
+    })
 }
