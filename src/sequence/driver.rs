@@ -115,10 +115,6 @@ where
         FrameSource::Files(paths) => paths.to_vec(),
         FrameSource::Meshes(_) => Vec::new(),
     };
-    let mut writer = output.as_ref().map(|o| Writer {
-        layout: o.layout.clone(),
-        format: o.format,
-    });
     let (mut tracker, mut state) = match &output {
         Some(o) if o.start == Start::Resume => {
             let state = RunState::load_matching(
@@ -159,7 +155,7 @@ where
                 next_id: 0,
                 frames: Vec::new(),
             };
-            commit(&mut writer, &tracker, &events, log, &mut state)?;
+            commit(output.as_ref(), &tracker, &events, log, &mut state)?;
             progress(Progress::Frame {
                 tracker: &tracker,
                 events: &events,
@@ -193,7 +189,7 @@ where
         });
         next = read;
         let (events, log) = stepped?;
-        commit(&mut writer, &tracker, &events, log, &mut state)?;
+        commit(output.as_ref(), &tracker, &events, log, &mut state)?;
         progress(Progress::Frame {
             tracker: &tracker,
             events: &events,
@@ -201,7 +197,7 @@ where
         });
     }
     let seconds = started.elapsed().as_secs_f64();
-    if let Some(w) = &writer {
+    if let Some(o) = &output {
         let summary = Summary::of(
             &state.frames,
             seconds,
@@ -209,7 +205,7 @@ where
             state.edge_length,
         );
         let json = serde_json::to_vec_pretty(&summary)?;
-        atomic_write(&w.layout.summary_path(), |f| f.write_all(&json))?;
+        atomic_write(&o.layout.summary_path(), |f| f.write_all(&json))?;
     }
     Ok(RunReport {
         frames: state.frames,
@@ -218,17 +214,11 @@ where
     })
 }
 
-/// Writes finished frames into an output folder.
-struct Writer {
-    layout: Layout,
-    format: FrameFormat,
-}
-
-/// Records frame `state.completed` in `state` and, with a writer, writes it (mesh, then events),
+/// Records frame `state.completed` in `state` and, with an output folder, writes it (mesh, then events),
 /// then advances `track.json`; each write is atomic, so a crash leaves either the old or the new
 /// state, never a torn one.
 fn commit<P: Serialize>(
-    writer: &mut Option<Writer>,
+    output: Option<&Output<P>>,
     tracker: &Tracker,
     events: &EventList,
     log: FrameLog,
@@ -238,7 +228,7 @@ fn commit<P: Serialize>(
     state.frames.push(log);
     state.completed = k + 1;
     state.next_id = tracker.mesh().next_id();
-    let Some(w) = writer else {
+    let Some(w) = output else {
         return Ok(());
     };
     for dir in [w.layout.frames_dir(), w.layout.events_dir()] {

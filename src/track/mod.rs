@@ -24,6 +24,7 @@ use crate::topology::{Field, TopologyError, TopologyOptions, constrain_topology}
 use churn::Marks;
 use rustc_hash::FxHashSet;
 use serde::{Deserialize, Serialize};
+use std::ops::Range;
 use std::time::{Duration, Instant};
 use thiserror::Error;
 
@@ -299,22 +300,18 @@ impl Tracker {
         // Lines 5–6: M follows T_j; Φ(T_j) is sampled meanwhile.
         let (converged, phi_t) = self.follow(backend, frame, target, &bvh, &mut times)?;
         // Line 7: improve.
-        let mark = self.mesh.journal_len();
-        self.improve(frame, &mut times)?;
-        marks.improve.push(mark..self.mesh.journal_len());
+        marks.improve.push(self.improve(frame, &mut times)?);
         // Lines 8–9: merge M's self-intersections, ConstrainTopology(M, Φ(M)).
         let t = Instant::now();
         let phi_m = Field::signed_distance(backend, self.grid, &self.mesh.to_indexed())
             .map_err(|e| TrackError::at(frame, e))?;
-        let mark = self.mesh.journal_len();
-        let merged = self.constrain(frame, &phi_m)?;
-        marks.topology_self = mark..self.mesh.journal_len();
+        let (merged, span) = self.constrain(frame, &phi_m)?;
+        marks.topology_self = span;
         times.topology_self = ms(t.elapsed());
         // Lines 10–11: take the target's topology, ConstrainTopology(M, Φ(T_j)).
         let t = Instant::now();
-        let mark = self.mesh.journal_len();
-        let constrained = self.constrain(frame, &phi_t)?;
-        marks.topology_target = mark..self.mesh.journal_len();
+        let (constrained, span) = self.constrain(frame, &phi_t)?;
+        marks.topology_target = span;
         times.topology_target = ms(t.elapsed());
         // What the grid cannot see, then line 12: improve (with the match's re-check).
         let (t, mark) = (Instant::now(), self.mesh.journal_len());
@@ -333,9 +330,7 @@ impl Tracker {
         times.improve += ms(matched.improve);
         times.reconcile = ms(t.elapsed()) - ms(matched.improve);
         marks.subgrid = mark..self.mesh.journal_len();
-        marks
-            .improve
-            .extend(matched.improve_records.iter().cloned());
+        marks.improve.extend(matched.improve_records);
 
         // Every stage changed the mesh through its mutations: one drain gives the frame's events.
         let churn = marks.churn(self.mesh.journal_since(0), &before);
@@ -388,19 +383,29 @@ impl Tracker {
         Ok((converged, phi_t))
     }
 
-    /// `ConstrainTopology(M, Θ)` (paper §4.3); whether it changed the mesh.
-    fn constrain(&mut self, frame: usize, theta: &Field) -> Result<bool, TrackError> {
-        constrain_topology(&mut self.mesh, theta, &self.options.topology)
-            .map(|report| report.changed())
-            .map_err(|e| TrackError::at(frame, e))
+    /// `ConstrainTopology(M, Θ)` (paper §4.3); whether it changed the mesh, and where its records
+    /// lie in the journal.
+    fn constrain(
+        &mut self,
+        frame: usize,
+        theta: &Field,
+    ) -> Result<(bool, Range<usize>), TrackError> {
+        let mark = self.mesh.journal_len();
+        let report = constrain_topology(&mut self.mesh, theta, &self.options.topology)
+            .map_err(|e| TrackError::at(frame, e))?;
+        Ok((report.changed(), mark..self.mesh.journal_len()))
     }
 
-    /// Improves the mesh (paper §4.1), adding its time.
-    fn improve(&mut self, frame: usize, times: &mut StageTimes) -> Result<(), TrackError> {
-        let t = Instant::now();
+    /// Improves the mesh (paper §4.1), adding its time; where its records lie in the journal.
+    fn improve(
+        &mut self,
+        frame: usize,
+        times: &mut StageTimes,
+    ) -> Result<Range<usize>, TrackError> {
+        let (t, mark) = (Instant::now(), self.mesh.journal_len());
         improve(&mut self.mesh, &self.params).map_err(|e| TrackError::at(frame, e))?;
         times.improve += ms(t.elapsed());
-        Ok(())
+        Ok(mark..self.mesh.journal_len())
     }
 
     /// Mean and largest distance from the tracked vertices to `target`, in units of `L`.
