@@ -4,10 +4,11 @@
 
 pub mod grid_support;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use grid_support::union;
 use surftrack::compute::Backend;
 use surftrack::events::{VertexValues, backward, forward};
+use surftrack::grid::{ScalarGrid, marching_cubes};
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::project::Bvh;
 use surftrack::topology::subgrid::{Fidelity, SubgridCounts, match_below_grid};
@@ -327,5 +328,92 @@ fn whole_input_fidelity_replaces_instead_of_grafting() {
         }
     );
     assert_eq!(mesh.to_indexed().positions, target.positions);
+    events.check().unwrap();
+}
+
+/// The surface of `field` (negative inside) sampled on a grid of `spacing` from `origin` over
+/// `cells` cells per side.
+fn surface_of(
+    field: impl Fn(Vec3) -> f32 + Sync,
+    origin: Vec3,
+    spacing: f32,
+    cells: usize,
+) -> IndexedMesh {
+    let grid = ScalarGrid::from_fn(origin, spacing, [cells + 1; 3], field).unwrap();
+    marching_cubes(&grid, 0.0)
+}
+
+/// Share of the vertices of `before` whose id is still in `after`.
+fn kept_share(before: &Mesh, after: &Mesh) -> f64 {
+    let ids_before = before.to_indexed().ids.unwrap();
+    let ids_after: std::collections::HashSet<u64> =
+        after.to_indexed().ids.unwrap().into_iter().collect();
+    let kept = ids_before
+        .iter()
+        .filter(|id| ids_after.contains(id))
+        .count();
+    kept as f64 / ids_before.len() as f64
+}
+
+#[test]
+fn ripples_within_the_bound_do_not_grow_a_graft() {
+    // The input is the bumped sphere with ripples everywhere, a few hundredths high: the grid
+    // edges the ripples graze are crossed differently by the two surfaces, but replacing the
+    // tracked surface there changes no topology, so only the bump is grafted.
+    let (ours, bumped) = sphere_and_bump();
+    let rippled = IndexedMesh {
+        positions: bumped
+            .positions
+            .iter()
+            .map(|p| {
+                let n = p.normalize();
+                *p + n * 0.03 * (17.0 * n.x).sin() * (19.0 * n.y).sin() * (13.0 * n.z).cos()
+            })
+            .collect(),
+        ..bumped
+    };
+    let (before, mesh, counts, _) = run_with(&ours, &rippled, 0.25, 0.15, Fidelity::Input);
+    assert_eq!(counts.grafted, 1, "{counts:?}");
+    assert_eq!(counts.replaced, 0, "{counts:?}");
+    let out = mesh.to_indexed();
+    out.validate().unwrap();
+    assert_eq!(out.topology().euler(), 2);
+    let kept = kept_share(&before, &mesh);
+    assert!(kept > 0.8, "{:.1}% of the vertices kept", 100.0 * kept);
+}
+
+/// A sheet 0.12 thick (about half a topology cell of 0.25) over the unit square, its rim rounded,
+/// with a hole of radius `hole` through its middle (none when 0), meshed on a grid shifted by
+/// `shift` so that two sheets never share a triangulation.
+fn sheet(hole: f32, shift: f32) -> IndexedMesh {
+    let field = move |p: Vec3| {
+        let q = Vec3::new(p.x.abs() - 1.0, p.y.abs() - 1.0, p.z.abs() - 0.06);
+        let slab = q.max(Vec3::ZERO).length() + q.max_element().min(0.0);
+        let tube = hole - Vec2::new(p.x, p.y).length();
+        if hole > 0.0 { slab.max(tube) } else { slab }
+    };
+    surface_of(field, Vec3::splat(-1.25 + shift), 0.04, 63)
+}
+
+#[test]
+fn a_tunnel_through_a_sheet_thinner_than_a_cell_is_grafted() {
+    // The input's sheet has a hole narrower than a topology cell that the tracked sheet lacks;
+    // every sample of either lies within the bound of the other, so only the topology tells
+    // them apart. The graft punches the hole and keeps part of the sheet: the sheet's two sides
+    // lie within one cell, so the region grows over much of it before the rims pair up.
+    let ours = sheet(0.0, 0.013);
+    let target = sheet(0.16, 0.0);
+    assert_eq!(ours.topology().euler(), 2);
+    assert_eq!(target.topology().euler(), 0);
+    let (before, mesh, counts, events) = run_with(&ours, &target, 0.25, 0.25, Fidelity::Input);
+    assert_eq!(counts.grafted, 1, "{counts:?}");
+    assert_eq!(counts.replaced, 0, "{counts:?}");
+    let out = mesh.to_indexed();
+    out.validate().unwrap();
+    let topology = out.topology();
+    assert_eq!(topology.components.len(), 1);
+    assert_eq!(topology.euler(), 0);
+    let kept = kept_share(&before, &mesh);
+    assert!(kept > 0.1, "{:.1}% of the vertices kept", 100.0 * kept);
     events.check().unwrap();
 }

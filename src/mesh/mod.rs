@@ -22,3 +22,4 @@ pub use normals::NormalWeighting;
 pub use quality::{QualityStats, aspect_ratio, min_angle_degrees};
 pub use replace::Replacement;
 pub use topology::{ComponentTopology, Topology};
+pub(crate) use validate::degenerate_triangle;

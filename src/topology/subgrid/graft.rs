@@ -7,10 +7,10 @@
 //! of grid cells around it and keeps the tracked surface everywhere else, like the patches of
 //! paper §4.4 but with the input's own triangles as the patch:
 //!
-//! 1. The region is seeded where the two surfaces differ below the grid: a grid edge one of them
-//!    crosses at least twice and the other a different number of times (a sheet, tunnel or
-//!    bridge thinner than a cell), and the cell of every sample farther than the distance bound
-//!    from the other surface. It grows by one cell in every direction.
+//! 1. The region is seeded where the two surfaces differ below the grid ([`seeds`]): the cell
+//!    of every sample farther than the distance bound from the other surface, and the clusters
+//!    of grid edges crossed differently (a sheet, tunnel or bridge thinner than a cell) whose
+//!    replacement changes the Euler characteristic, each grown by one cell in every direction.
 //! 2. The tracked triangles with no vertex in the region are kept; the input's triangles with all
 //!    their vertices in it are copied, so the two pieces never overlap and a gap of about one
 //!    edge separates their boundaries. Pieces of either side too small to stand on their own,
@@ -25,17 +25,21 @@
 //!
 //! Where step 3 leaves a loop without a partner (the two surfaces cross the region's rim
 //! differently there) or step 4 finds samples beyond the bound, the region grows around them;
-//! where step 4 finds another topology, whose place is unknown, the whole region grows. Steps 2–4
-//! then run again, up to [`GROWTHS`] times; after that the caller replaces the whole component.
+//! where step 4 finds the result in pieces (the rim cut a bridge of the input), it grows where
+//! the smaller pieces come next to the largest; where step 4 finds another Euler
+//! characteristic, the clusters step 1 left out join the region, and if it is still found,
+//! whose place is then unknown, the whole region grows. Steps 2–4 then run again, up to
+//! [`GROWTHS`] times; after that the caller replaces the whole component.
 
 use glam::Vec3;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::SubgridError;
 use super::matching::far_components;
+use super::seeds::{self, cell};
 use crate::compute::Backend;
-use crate::grid::{GridFrame, LatticeMesh, cross_axes, rasterize};
-use crate::mesh::{IndexedMesh, min_angle_degrees};
+use crate::grid::GridFrame;
+use crate::mesh::{IndexedMesh, degenerate_triangle, min_angle_degrees};
 use crate::project::Bvh;
 use crate::topology::classify::dilate;
 
@@ -141,10 +145,22 @@ pub(super) fn graft(
 ) -> Result<Option<Graft>, SubgridError> {
     let frame = GridFrame::new(Vec3::ZERO, bounds.spacing)?;
     let input = submesh(theirs.mesh, &theirs.triangles);
-    let mut region = region(bounds.backend, &frame, ours, &input, far)?;
-    if region.is_empty() {
+    let seeds = seeds::seeds(
+        bounds.backend,
+        &frame,
+        &submesh(ours.mesh, &ours.triangles),
+        &input,
+        far,
+    )?;
+    if seeds.all.is_empty() {
         return Ok(None);
     }
+    let mut widened = seeds.selected.is_empty();
+    let mut region = if widened {
+        seeds.all.clone()
+    } else {
+        seeds.selected
+    };
     for _ in 0..GROWTHS {
         let cells = |points: Vec<Vec3>| points.iter().map(|&p| cell(&frame, p)).collect();
         let trouble: Vec<[i32; 3]> = match attempt(&frame, &region, ours, theirs) {
@@ -153,9 +169,17 @@ pub(super) fn graft(
             Attempt::Joined(graft) => {
                 match check(&graft, ours.mesh, (theirs.mesh, &input), bounds)? {
                     Verdict::Meets => return Ok(Some(graft)),
+                    // The selected clusters are not all the difference: every cluster joins.
+                    Verdict::Fails if !widened => {
+                        widened = true;
+                        region.extend(seeds.all.iter().copied());
+                        region.sort_unstable();
+                        region.dedup();
+                        continue;
+                    }
                     // Where the topology went wrong is not known: the whole region grows.
                     Verdict::Fails => region.clone(),
-                    Verdict::Far(points) => cells(points),
+                    Verdict::Far(points) | Verdict::Apart(points) => cells(points),
                 }
             }
         };
@@ -252,11 +276,6 @@ fn grow(region: &mut Vec<[i32; 3]>, seeds: &[[i32; 3]]) {
     region.dedup();
 }
 
-/// The grid cell holding `p`.
-fn cell(frame: &GridFrame, p: Vec3) -> [i32; 3] {
-    frame.to_grid(p).map(|x| x.floor() as i32)
-}
-
 /// The mesh made of `triangles` of `mesh`, with only the vertices they use (in index order).
 pub(super) fn submesh(mesh: &IndexedMesh, triangles: &[u32]) -> IndexedMesh {
     let mut index = vec![u32::MAX; mesh.positions.len()];
@@ -277,55 +296,6 @@ pub(super) fn submesh(mesh: &IndexedMesh, triangles: &[u32]) -> IndexedMesh {
         .map(|&t| mesh.triangles[t as usize].map(|v| index[v as usize]))
         .collect();
     IndexedMesh::new(positions, triangles)
-}
-
-/// How many times the surface crosses each grid edge it crosses, keyed by (lower corner, axis).
-fn crossing_counts(
-    backend: &Backend,
-    frame: &GridFrame,
-    surface: &IndexedMesh,
-) -> Result<FxHashMap<([i32; 3], usize), u32>, SubgridError> {
-    let lattice = LatticeMesh::new(*frame, surface)?;
-    let mut counts = FxHashMap::default();
-    for crossing in rasterize(backend, &lattice)?.all() {
-        *counts
-            .entry((crossing.corner, crossing.axis()))
-            .or_insert(0) += 1;
-    }
-    Ok(counts)
-}
-
-/// Step 1 of the module comment: the cells where the surfaces differ below the grid, grown by one.
-fn region(
-    backend: &Backend,
-    frame: &GridFrame,
-    ours: &Side,
-    input: &IndexedMesh,
-    far: &[Vec3],
-) -> Result<Vec<[i32; 3]>, SubgridError> {
-    let our_counts = crossing_counts(backend, frame, &submesh(ours.mesh, &ours.triangles))?;
-    let their_counts = crossing_counts(backend, frame, input)?;
-    let mut seeds: Vec<[i32; 3]> = far.iter().map(|&p| cell(frame, p)).collect();
-    let differs = |n: u32, m: u32| n != m && n.max(m) >= 2;
-    let edges = our_counts
-        .iter()
-        .filter(|(key, n)| differs(**n, their_counts.get(key).copied().unwrap_or(0)))
-        .chain(
-            their_counts
-                .iter()
-                .filter(|(key, m)| !our_counts.contains_key(key) && differs(0, **m)),
-        );
-    for ((corner, axis), _) in edges {
-        // The four cells around the edge.
-        let (b, c) = cross_axes(*axis);
-        for (db, dc) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-            let mut around = *corner;
-            around[b] -= db;
-            around[c] -= dc;
-            seeds.push(around);
-        }
-    }
-    Ok(dilate(&seeds, 1))
 }
 
 /// The edge-connected pieces of the triangles of `side` selected by `mask`, as indices into
@@ -553,6 +523,11 @@ fn shape_cost(angle: f32) -> f32 {
 /// A zip triangle turned against the boundary triangle it meets costs more than any shape.
 const FOLD_COST: f32 = 100.0;
 
+/// A zip triangle of no area (its corners in a line, or two at one place, where a kept vertex
+/// sits on a copied one) would leave the grafted surface invalid: it costs more than any
+/// number of folds, so the strip avoids it wherever another exists.
+const DEGENERATE_COST: f32 = 1.0e6;
+
 /// Joins the kept loop `a` and the copied loop `c` with a strip of triangles, from their closest
 /// pair of vertices round to it again. Among all such strips (each triangle spans one edge of one
 /// loop and a vertex of the other) it takes the one of least cost (shape, and turning against the
@@ -566,8 +541,10 @@ fn zip_loops(a: &Rim, c: &Rim, zip: &mut Vec<[Corner; 3]>) {
     let mut start = (0, 0, f32::INFINITY);
     for i in 0..n {
         for j in 0..m {
+            // Two corners at one place (a kept vertex copied from the input by an earlier
+            // graft) cannot start the strip: its first triangle holds both.
             let d = pa(i).distance_squared(pc(j));
-            if d < start.2 {
+            if d > 0.0 && d < start.2 {
                 start = (i, j, d);
             }
         }
@@ -578,7 +555,10 @@ fn zip_loops(a: &Rim, c: &Rim, zip: &mut Vec<[Corner; 3]>) {
     let cost = |p: [Vec3; 3], edge: (u32, u32), normals: &FxHashMap<(u32, u32), Vec3>| {
         let normal = (p[1] - p[0]).cross(p[2] - p[0]);
         let folded = normals.get(&edge).is_some_and(|o| normal.dot(*o) < 0.0);
-        shape_cost(min_angle_degrees(p[0], p[1], p[2])) + if folded { FOLD_COST } else { 0.0 }
+        let degenerate = degenerate_triangle(p[0], p[1], p[2]);
+        shape_cost(min_angle_degrees(p[0], p[1], p[2]))
+            + if folded { FOLD_COST } else { 0.0 }
+            + if degenerate { DEGENERATE_COST } else { 0.0 }
     };
     // Advancing along ours adds [a_i, a_i+1, c_j]; its kept neighbour holds (a_i+1, a_i).
     let step_ours = |i: usize, j: usize| {
@@ -690,6 +670,46 @@ enum Verdict {
     Fails,
     /// These samples (of either surface) lie farther than the bound from the other.
     Far(Vec<Vec3>),
+    /// The result falls apart: these are the points of its smaller pieces next to its largest,
+    /// where a bridge of the input was cut off by the region's rim.
+    Apart(Vec<Vec3>),
+}
+
+/// The vertices of the smaller pieces of `part` (labelled by piece in `labels`) that lie in a
+/// cell of spacing `spacing` next to one holding a vertex of its largest piece.
+fn apart(part: &IndexedMesh, labels: &[u32], spacing: f32) -> Vec<Vec3> {
+    let Ok(frame) = GridFrame::new(Vec3::ZERO, spacing) else {
+        return Vec::new();
+    };
+    let mut sizes: FxHashMap<u32, usize> = FxHashMap::default();
+    for &l in labels {
+        *sizes.entry(l).or_insert(0) += 1;
+    }
+    let Some(largest) = sizes
+        .iter()
+        .max_by_key(|&(&l, &n)| (n, std::cmp::Reverse(l)))
+        .map(|(&l, _)| l)
+    else {
+        return Vec::new();
+    };
+    let main: FxHashSet<[i32; 3]> = part
+        .positions
+        .iter()
+        .zip(labels)
+        .filter(|(_, l)| **l == largest)
+        .map(|(&p, _)| cell(&frame, p))
+        .collect();
+    part.positions
+        .iter()
+        .zip(labels)
+        .filter(|(_, l)| **l != largest)
+        .map(|(&p, _)| p)
+        .filter(|&p| {
+            dilate(&[cell(&frame, p)], 1)
+                .iter()
+                .any(|c| main.contains(c))
+        })
+        .collect()
 }
 
 /// Step 4 of the module comment.
@@ -704,7 +724,13 @@ fn check(
     if part.validate().is_err() {
         return Ok(Verdict::Fails);
     }
-    let topology = part.topology();
+    let (topology, labels) = part.topology_with_labels();
+    if topology.components.len() > 1 {
+        let near = apart(&part, &labels, bounds.spacing);
+        if !near.is_empty() {
+            return Ok(Verdict::Apart(near));
+        }
+    }
     if topology.components.len() != 1 || topology.euler() != bounds.euler {
         return Ok(Verdict::Fails);
     }

@@ -35,6 +35,7 @@ mod decide;
 mod graft;
 mod matching;
 mod rebuild;
+mod seeds;
 
 use crate::compute::Backend;
 use crate::grid::RasterError;

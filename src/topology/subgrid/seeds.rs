@@ -1,0 +1,222 @@
+//! Where a graft's region starts (step 1 of the graft): the cells where the two surfaces differ
+//! below the grid.
+//!
+//! Two kinds of difference seed it. A sample of either surface farther than the distance bound
+//! from the other is a difference of shape, and its cell is a seed. A grid edge that one surface
+//! crosses at least twice and the other a different number of times *may* be a difference of
+//! topology: a sheet, tunnel or bridge thinner than a cell. But on a fluid's bumpy surface most
+//! such edges are grazed by a ripple that one surface has and the other has moved a little: the
+//! surfaces differ there in shape only, by far less than the bound, and re-sampling them costs
+//! the coherence the tracker exists for (paper §4.3: only differences that change the topology
+//! should re-sample the surface).
+//!
+//! So the edges are gathered into clusters of cells (the four cells around each edge, grown by
+//! one, joined where they touch), and a cluster seeds the region only where replacing the tracked
+//! surface by the input inside it changes the Euler characteristic: the graft keeps the tracked
+//! triangles outside the region, `K`, copies the input's inside it, `C`, and joins them with
+//! strips, annuli of characteristic 0, so the grafted surface has χ(K) + χ(C), while the tracked
+//! one has χ(K) + χ(R) with `R` the tracked triangles it removes; the cluster changes χ by
+//! χ(C) − χ(R). A cluster whose change is 0 holds ripples, or changes that cancel, and is left
+//! alone. Every cluster stays at hand: when a graft of the selected ones still misses the input's
+//! topology, the region takes them all.
+
+use glam::Vec3;
+use rustc_hash::{FxHashMap, FxHashSet};
+
+use super::SubgridError;
+use crate::compute::Backend;
+use crate::grid::{GridFrame, LatticeMesh, cross_axes, rasterize};
+use crate::mesh::IndexedMesh;
+use crate::topology::classify::dilate;
+use crate::topology::keys::Cell;
+
+/// The cells a graft's region starts from.
+pub(super) struct Seeds {
+    /// The cells of the far samples and of the clusters that change the topology, grown by one.
+    pub selected: Vec<Cell>,
+    /// The cells of the far samples and of every cluster, grown by one (the region's fallback).
+    pub all: Vec<Cell>,
+}
+
+/// The grid cell holding `p`.
+pub(super) fn cell(frame: &GridFrame, p: Vec3) -> Cell {
+    frame.to_grid(p).map(|x| x.floor() as i32)
+}
+
+/// The seeds where `ours` (the tracked component or components, as a mesh of its own) and `input`
+/// (the input's component) differ, with `far` the samples of either farther than the bound from
+/// the other (see the module comment).
+pub(super) fn seeds(
+    backend: &Backend,
+    frame: &GridFrame,
+    ours: &IndexedMesh,
+    input: &IndexedMesh,
+    far: &[Vec3],
+) -> Result<Seeds, SubgridError> {
+    let our_counts = crossing_counts(backend, frame, ours)?;
+    let their_counts = crossing_counts(backend, frame, input)?;
+    let differs = |n: u32, m: u32| n != m && n.max(m) >= 2;
+    let edges = our_counts
+        .iter()
+        .filter(|(key, n)| differs(**n, their_counts.get(key).copied().unwrap_or(0)))
+        .chain(
+            their_counts
+                .iter()
+                .filter(|(key, m)| !our_counts.contains_key(key) && differs(0, **m)),
+        );
+    let mut around_edges: Vec<Cell> = Vec::new();
+    for ((corner, axis), _) in edges {
+        let (b, c) = cross_axes(*axis);
+        for (db, dc) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            let mut around = *corner;
+            around[b] -= db;
+            around[c] -= dc;
+            around_edges.push(around);
+        }
+    }
+    around_edges.sort_unstable();
+    around_edges.dedup();
+    let clusters = clusters(&around_edges);
+    let mut members: Vec<Vec<Cell>> = vec![Vec::new(); clusters.count];
+    for (&c, &k) in around_edges.iter().zip(&clusters.label) {
+        members[k as usize].push(c);
+    }
+    let grown: Vec<Vec<Cell>> = members.iter().map(|m| dilate(m, 1)).collect();
+    let changes = euler_changes(frame, &grown, ours, input);
+    let far_cells: Vec<Cell> = far.iter().map(|&p| cell(frame, p)).collect();
+    let mut selected = dilate(&far_cells, 1);
+    let mut all = selected.clone();
+    for (cells, change) in grown.into_iter().zip(changes) {
+        if change != 0 {
+            selected.extend(cells.iter().copied());
+        }
+        all.extend(cells);
+    }
+    for set in [&mut selected, &mut all] {
+        set.sort_unstable();
+        set.dedup();
+    }
+    Ok(Seeds { selected, all })
+}
+
+/// How many times the surface crosses each grid edge it crosses, keyed by (lower corner, axis).
+fn crossing_counts(
+    backend: &Backend,
+    frame: &GridFrame,
+    surface: &IndexedMesh,
+) -> Result<FxHashMap<(Cell, usize), u32>, SubgridError> {
+    let lattice = LatticeMesh::new(*frame, surface)?;
+    let mut counts = FxHashMap::default();
+    for crossing in rasterize(backend, &lattice)?.all() {
+        *counts
+            .entry((crossing.corner, crossing.axis()))
+            .or_insert(0) += 1;
+    }
+    Ok(counts)
+}
+
+/// Sorted cells labelled by the group of cells they touch (26-neighbours), groups numbered in
+/// the order of their first cell.
+struct Clusters {
+    label: Vec<u32>,
+    count: usize,
+}
+
+/// The offsets of a cell's 26 neighbours (and itself).
+const NEIGHBOURS: [[i32; 3]; 27] = {
+    let mut out = [[0; 3]; 27];
+    let mut i = 0;
+    while i < 27 {
+        out[i] = [i as i32 % 3 - 1, (i as i32 / 3) % 3 - 1, i as i32 / 9 - 1];
+        i += 1;
+    }
+    out
+};
+
+/// The clusters of `cells` (sorted, without repeats).
+fn clusters(cells: &[Cell]) -> Clusters {
+    const NONE: u32 = u32::MAX;
+    let mut label = vec![NONE; cells.len()];
+    let mut count = 0;
+    let index = |c: &Cell| cells.binary_search(c).ok();
+    for start in 0..cells.len() {
+        if label[start] != NONE {
+            continue;
+        }
+        label[start] = count;
+        let mut stack = vec![start];
+        while let Some(i) = stack.pop() {
+            let c = cells[i];
+            for d in NEIGHBOURS {
+                let n = [c[0] + d[0], c[1] + d[1], c[2] + d[2]];
+                if let Some(j) = index(&n).filter(|&j| label[j] == NONE) {
+                    label[j] = count;
+                    stack.push(j);
+                }
+            }
+        }
+        count += 1;
+    }
+    Clusters {
+        label,
+        count: count as usize,
+    }
+}
+
+/// Per cluster, given by its cells grown by one, χ(C) − χ(R): the input's triangles with every
+/// corner in the cluster's cells, and the tracked triangles with any corner in them (see the
+/// module comment).
+fn euler_changes(
+    frame: &GridFrame,
+    grown: &[Vec<Cell>],
+    ours: &IndexedMesh,
+    input: &IndexedMesh,
+) -> Vec<i64> {
+    let mut holders: FxHashMap<Cell, Vec<u32>> = FxHashMap::default();
+    for (k, cells) in grown.iter().enumerate() {
+        for &c in cells {
+            holders.entry(c).or_default().push(k as u32);
+        }
+    }
+    let none: Vec<u32> = Vec::new();
+    let clusters_at = |p: Vec3| holders.get(&cell(frame, p)).unwrap_or(&none);
+    let mut removed: Vec<Vec<u32>> = vec![Vec::new(); grown.len()];
+    for (t, tri) in ours.triangles.iter().enumerate() {
+        let mut touched: Vec<u32> = tri
+            .iter()
+            .flat_map(|&v| clusters_at(ours.positions[v as usize]).iter().copied())
+            .collect();
+        touched.sort_unstable();
+        touched.dedup();
+        for k in touched {
+            removed[k as usize].push(t as u32);
+        }
+    }
+    let mut copied: Vec<Vec<u32>> = vec![Vec::new(); grown.len()];
+    for (t, tri) in input.triangles.iter().enumerate() {
+        let [a, b, c] = tri.map(|v| clusters_at(input.positions[v as usize]));
+        for &k in a.iter().filter(|k| b.contains(k) && c.contains(k)) {
+            copied[k as usize].push(t as u32);
+        }
+    }
+    removed
+        .iter()
+        .zip(&copied)
+        .map(|(r, c)| euler(input, c) - euler(ours, r))
+        .collect()
+}
+
+/// V − E + F of the triangles `triangles` of `mesh`, as a complex of their own.
+fn euler(mesh: &IndexedMesh, triangles: &[u32]) -> i64 {
+    let mut vertices: FxHashSet<u32> = FxHashSet::default();
+    let mut edges: FxHashSet<(u32, u32)> = FxHashSet::default();
+    for &t in triangles {
+        let tri = mesh.triangles[t as usize];
+        for k in 0..3 {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            vertices.insert(a);
+            edges.insert((a.min(b), a.max(b)));
+        }
+    }
+    vertices.len() as i64 - edges.len() as i64 + triangles.len() as i64
+}
