@@ -47,6 +47,8 @@ pub struct CacheStatus<R> {
     pub line: usize,
     pub input: PathBuf,
     pub request: R,
+    /// Named as in `batch.json`.
+    #[serde(rename = "status")]
     pub state: State,
     pub error: Option<String>,
     /// Frames tracked.

@@ -12,7 +12,7 @@ use std::path::Path;
 use std::time::Instant;
 use surftrack::batch::{Cache, CacheStatus, Entry, STATUS_VERSION, State};
 use surftrack::compute::Backend;
-use surftrack::sequence::{FrameFormat, Layout, Progress, Start};
+use surftrack::sequence::{FrameFormat, Layout, Progress, RunState, Start};
 
 /// What every cache of a batch is asked: recorded in its status, and compared on a rerun, so a
 /// cache done with other parameters or follow-ups is not taken as done.
@@ -116,6 +116,7 @@ impl CacheRun<'_> {
             Err(e) => {
                 status.state = State::Failed;
                 status.error = Some(e.to_string());
+                status.frames = completed_frames(&dir);
             }
         }
         if let Err(e) = status.write(&dir) {
@@ -179,6 +180,14 @@ impl CacheRun<'_> {
                 .then(|| carried.iter().sum::<f64>() / carried.len() as f64),
         })
     }
+}
+
+/// Frames complete in `dir` (its `track.json`), for a cache that failed part-way.
+fn completed_frames(dir: &Path) -> usize {
+    std::fs::read_to_string(Layout::new(dir).state_path())
+        .ok()
+        .and_then(|text| serde_json::from_str::<RunState<serde_json::Value>>(&text).ok())
+        .map_or(0, |state| state.completed)
 }
 
 fn panic_message(panic: &Box<dyn std::any::Any + Send>) -> String {
