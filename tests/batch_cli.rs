@@ -42,7 +42,7 @@ fn a_broken_cache_fails_alone_and_a_rerun_skips_the_done_ones() {
     let report = json(&out.join("batch.json"));
     let caches = report["caches"].as_array().unwrap();
     let names: Vec<&str> = caches.iter().map(|c| c["name"].as_str().unwrap()).collect();
-    assert_eq!(names, ["cache", "cache-2", "cache-3"]);
+    assert_eq!(names, ["shotA-cache", "shotB-cache", "shotC-cache"]);
     let states: Vec<&str> = caches
         .iter()
         .map(|c| c["status"].as_str().unwrap())
@@ -66,7 +66,10 @@ fn a_broken_cache_fails_alone_and_a_rerun_skips_the_done_ones() {
         table.contains("2 done, 1 failed, 0 unfinished of 3 caches"),
         "{table}"
     );
-    let failed_row = table.lines().find(|l| l.starts_with("cache-2 ")).unwrap();
+    let failed_row = table
+        .lines()
+        .find(|l| l.starts_with("shotB-cache "))
+        .unwrap();
     assert!(failed_row.contains("failed") && failed_row.contains("blobs_0002.ply"));
 
     // The batch's caches are what `track` makes of them, whatever ran beside them.
@@ -80,18 +83,18 @@ fn a_broken_cache_fails_alone_and_a_rerun_skips_the_done_ones() {
         .status()
         .unwrap();
     assert!(tracked.success());
-    assert!(tracked_bytes(&alone) == tracked_bytes(&out.join("cache-3")));
+    assert!(tracked_bytes(&alone) == tracked_bytes(&out.join("shotC-cache")));
 
     let statuses = |name: &str| std::fs::read(out.join(name).join("status.json")).unwrap();
-    let before = (statuses("cache"), statuses("cache-3"));
+    let before = (statuses("shotA-cache"), statuses("shotC-cache"));
     let second = batch(&list, &out, &["--jobs", "2"]).output().unwrap();
     assert!(!second.status.success(), "the broken cache fails again");
     let log = String::from_utf8_lossy(&second.stdout);
-    assert!(log.contains("cache: done before, skipped"), "{log}");
-    assert!(log.contains("cache-3: done before, skipped"), "{log}");
+    assert!(log.contains("shotA-cache: done before, skipped"), "{log}");
+    assert!(log.contains("shotC-cache: done before, skipped"), "{log}");
     assert_eq!(
         before,
-        (statuses("cache"), statuses("cache-3")),
+        (statuses("shotA-cache"), statuses("shotC-cache")),
         "not run again"
     );
     assert_eq!(json(&out.join("batch.json"))["done"], 2);

@@ -48,17 +48,15 @@ impl Manifest {
             line,
             message,
         };
-        let mut caches: Vec<Cache> = Vec::new();
+        let mut found: Vec<(usize, &str, Folder)> = Vec::new();
         let mut first_line: HashMap<PathBuf, usize> = HashMap::new();
-        let mut taken: Vec<String> = RESERVED.iter().map(|s| s.to_string()).collect();
         for (i, raw) in text.lines().enumerate() {
             let line = i + 1;
             let entry = raw.trim();
             if entry.is_empty() || entry.starts_with('#') {
                 continue;
             }
-            let input = base.join(entry);
-            let Some(folder) = folder_name(Path::new(entry)) else {
+            let Some(folder) = Folder::of(Path::new(entry)) else {
                 return Err(bad(
                     line,
                     format!(
@@ -66,7 +64,7 @@ impl Manifest {
                     ),
                 ));
             };
-            let key = normalized(&input);
+            let key = normalized(&base.join(entry));
             if let Some(first) = first_line.get(&key) {
                 return Err(bad(
                     line,
@@ -74,12 +72,22 @@ impl Manifest {
                 ));
             }
             first_line.insert(key, line);
-            let name = unique(&sanitized(&folder), &taken);
+            found.push((line, entry, folder));
+        }
+        let shared = |name: &str| found.iter().filter(|(_, _, f)| f.name == name).count() > 1;
+        let mut taken: Vec<String> = RESERVED.iter().map(|s| s.to_string()).collect();
+        let mut caches: Vec<Cache> = Vec::with_capacity(found.len());
+        for (line, entry, folder) in &found {
+            let wanted = match &folder.parent {
+                Some(parent) if shared(&folder.name) => format!("{parent}-{}", folder.name),
+                _ => folder.name.clone(),
+            };
+            let name = unique(&sanitized(&wanted), &taken);
             taken.push(name.clone());
             caches.push(Cache {
-                line,
+                line: *line,
                 text: entry.to_string(),
-                input,
+                input: base.join(entry),
                 name,
             });
         }
@@ -105,15 +113,28 @@ impl Manifest {
 }
 
 /// The folder a cache is called after: the input itself when it is a folder, the folder holding
-/// it when it is a frame file or a pattern (`shot/fluid_####.bobj.gz` → `shot`).
-fn folder_name(entry: &Path) -> Option<String> {
-    let named = normalized(entry);
-    let is_frames = named
-        .file_name()
-        .and_then(|n| n.to_str())
-        .is_some_and(|n| n.contains(['#', '*']) || Format::from_name(n).is_some());
-    let folder = if is_frames { named.parent()? } else { &named };
-    folder.file_name().map(|n| n.to_string_lossy().into_owned())
+/// it when it is a frame file or a pattern (`shot/fluid_####.bobj.gz` → `shot`); and the name of
+/// the folder above, which tells apart caches whose folders share a name (`shotA/cache`,
+/// `shotB/cache` → `shotA-cache`, `shotB-cache`).
+struct Folder {
+    name: String,
+    parent: Option<String>,
+}
+
+impl Folder {
+    fn of(entry: &Path) -> Option<Self> {
+        let named = normalized(entry);
+        let is_frames = named
+            .file_name()
+            .and_then(|n| n.to_str())
+            .is_some_and(|n| n.contains(['#', '*']) || Format::from_name(n).is_some());
+        let folder = if is_frames { named.parent()? } else { &named };
+        let name_of = |path: &Path| path.file_name().map(|n| n.to_string_lossy().into_owned());
+        Some(Self {
+            name: name_of(folder)?,
+            parent: folder.parent().and_then(name_of),
+        })
+    }
 }
 
 /// `path` with `.` components dropped and `..` applied where it can be, without touching the
@@ -186,11 +207,18 @@ mod tests {
 
     #[test]
     fn caches_are_named_after_their_folders_and_made_unique() {
-        let text = "# shots\n\nshotA/cache\n  /data/shotB/fluid_####.bobj.gz  \nshotC/cache/\nx/cache-2\n/data/my shot/frame_0001.ply\n";
+        let text = "# shots\n\nshotA/cache\n  /data/shotB/fluid_####.bobj.gz  \nshotC/cache/\nshotA-cache\n/data/my shot/frame_0001.ply\n";
         assert_eq!(
             names(text),
-            ["cache", "shotB", "cache-2", "cache-2-2", "my_shot"]
+            [
+                "shotA-cache",
+                "shotB",
+                "shotC-cache",
+                "shotA-cache-2",
+                "my_shot"
+            ]
         );
+        assert_eq!(names("cache\nx/cache\n"), ["cache", "x-cache"]);
         let manifest = parse(text).unwrap();
         assert_eq!(manifest.caches[0].line, 3);
         assert_eq!(manifest.caches[0].input, Path::new("/jobs/shotA/cache"));
