@@ -3,6 +3,7 @@
 //! with Evolving Topology").
 
 pub mod apps;
+pub mod batch;
 pub mod compute;
 pub mod eval;
 pub mod events;

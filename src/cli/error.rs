@@ -43,4 +43,26 @@ pub enum CliError {
     ObjTracking,
     #[error("{failing} of {total} tracked frames fail the bars (see the table)")]
     EvalFailed { failing: usize, total: usize },
+    #[error(transparent)]
+    Batch(#[from] surftrack::batch::BatchError),
+    #[error("{flag}: {message}")]
+    FollowUpArgs { flag: &'static str, message: String },
+    #[error("{}: exists and holds no batch status file ({}); move it away or use --force", path.display(), surftrack::batch::STATUS_FILE)]
+    ForeignCacheFolder { path: PathBuf },
+    #[error("cannot create {}: {source}", path.display())]
+    CreateDir {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("cache {name} failed: {error}")]
+    CacheFailed { name: String, error: String },
+    #[error("{failed} failed and {unfinished} unfinished of {total} caches (see the table and {})", report.display())]
+    BatchUnfinished {
+        failed: usize,
+        unfinished: usize,
+        total: usize,
+        report: PathBuf,
+    },
+    #[error("panicked: {0}")]
+    Panic(String),
 }

@@ -1,10 +1,10 @@
 //! `surftrack eval`: per-frame quality of a tracked sequence against its input, as a table and JSON.
 
 use super::CliError;
-use clap::Args;
-use std::path::PathBuf;
+use clap::{Args, Parser};
+use std::path::{Path, PathBuf};
 use surftrack::compute::{Backend, BackendChoice};
-use surftrack::eval::{EvalOptions, evaluate};
+use surftrack::eval::{EvalOptions, EvalReport, evaluate};
 use surftrack::io::atomic_write;
 
 #[derive(Debug, Args)]
@@ -37,24 +37,17 @@ pub struct EvalArgs {
 }
 
 pub fn run(args: &EvalArgs) -> Result<(), CliError> {
-    let options = EvalOptions {
-        input: args.input.clone(),
-        backend: Backend::select(args.backend)?,
-        angle_threshold: args.min_angle,
-        max_hausdorff: args.max_hausdorff,
-        checker: args.checker.clone(),
-        ..EvalOptions::default()
-    };
-    let report = evaluate(&args.tracked, &options)?;
-    let json = serde_json::to_vec_pretty(&report)?;
+    let report = report(args)?;
     match &args.json {
-        Some(path) if path.as_os_str() == "-" => println!("{}", String::from_utf8_lossy(&json)),
-        other => {
-            let path = other
-                .clone()
-                .unwrap_or_else(|| args.tracked.join("eval.json"));
+        Some(path) if path.as_os_str() == "-" => {
+            println!(
+                "{}",
+                String::from_utf8_lossy(&serde_json::to_vec_pretty(&report)?)
+            )
+        }
+        _ => {
             print!("{}", report.table());
-            atomic_write(&path, |w| w.write_all(&json))?;
+            let path = write_report(&report, args)?;
             println!("JSON report: {}", path.display());
         }
     }
@@ -65,4 +58,49 @@ pub fn run(args: &EvalArgs) -> Result<(), CliError> {
         });
     }
     Ok(())
+}
+
+/// `batch --eval`: this command with its defaults on the tracked folder `tracked`, the report
+/// written to `TRACKED/eval.json`.
+#[derive(Debug, Parser)]
+#[command(name = "--eval", no_binary_name = true)]
+struct BatchEval {
+    #[command(flatten)]
+    args: EvalArgs,
+}
+
+/// Evaluates the tracked folder `tracked` with this command's defaults and writes its JSON report.
+pub(super) fn evaluate_tracked(tracked: &Path) -> Result<EvalReport, CliError> {
+    let args = BatchEval::try_parse_from([tracked.as_os_str()])
+        .map_err(|e| CliError::FollowUpArgs {
+            flag: "--eval",
+            message: e.to_string(),
+        })?
+        .args;
+    let report = report(&args)?;
+    write_report(&report, &args)?;
+    Ok(report)
+}
+
+fn report(args: &EvalArgs) -> Result<EvalReport, CliError> {
+    let options = EvalOptions {
+        input: args.input.clone(),
+        backend: Backend::select(args.backend)?,
+        angle_threshold: args.min_angle,
+        max_hausdorff: args.max_hausdorff,
+        checker: args.checker.clone(),
+        ..EvalOptions::default()
+    };
+    Ok(evaluate(&args.tracked, &options)?)
+}
+
+/// Writes the JSON report where `--json` says (default `TRACKED/eval.json`); returns the path.
+fn write_report(report: &EvalReport, args: &EvalArgs) -> Result<PathBuf, CliError> {
+    let path = args
+        .json
+        .clone()
+        .unwrap_or_else(|| args.tracked.join("eval.json"));
+    let json = serde_json::to_vec_pretty(report)?;
+    atomic_write(&path, |w| w.write_all(&json))?;
+    Ok(path)
 }

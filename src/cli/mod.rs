@@ -1,5 +1,6 @@
 //! Subcommands and their arguments (clap); each subcommand lives in its own file.
 
+mod batch;
 mod bench;
 mod demo;
 mod error;
@@ -36,6 +37,11 @@ enum Command {
     /// Track a frame sequence (Algorithm 1): write one coherent deforming mesh (persistent vertex
     /// ids) and per-frame event lists into OUT.
     Track(track::TrackArgs),
+    /// Track every cache of a manifest (one folder or frame pattern per line) into OUTROOT/NAME/,
+    /// several at once, each resumable, with optional propagate and eval steps; caches done
+    /// before are skipped, failures recorded. `--index N` (or SLURM_ARRAY_TASK_ID,
+    /// JOB_COMPLETION_INDEX) runs one cache, for farm engines; OUTROOT/batch.json reports.
+    Batch(batch::BatchArgs),
     /// Time every stage of tracking on ~16k- and ~100k-vertex synthetic sequences, CPU and GPU
     /// paths side by side, and report peak memory.
     Bench(bench::BenchArgs),
@@ -69,6 +75,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Inspect(args) => inspect::run(&args),
         Command::Synth(args) => synth::run(&args),
         Command::Track(args) => track::run(&args),
+        Command::Batch(args) => batch::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Demo(args) => demo::run(&args),
         Command::Propagate(args) => propagate::run(&args),

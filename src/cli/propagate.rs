@@ -1,8 +1,9 @@
 //! `surftrack propagate`: carries per-vertex data through a tracked sequence (paper §4.6).
 
 use super::CliError;
-use clap::{ArgGroup, Args, ValueEnum};
-use std::path::PathBuf;
+use clap::{ArgGroup, Args, Parser, ValueEnum};
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
 use surftrack::propagate::{
     Axis, Channel, Direction, Displace, Projection, PropagateOptions, Texture, propagate,
 };
@@ -89,6 +90,51 @@ enum OutputFormat {
 }
 
 pub fn run(args: &PropagateArgs) -> Result<(), CliError> {
+    println!("{}", propagate_tracked(args)?);
+    Ok(())
+}
+
+/// `batch --propagate ARGS` takes this command's arguments as one string, split at spaces.
+#[derive(Debug, Parser)]
+#[command(name = "--propagate", no_binary_name = true)]
+struct BatchPropagate {
+    #[command(flatten)]
+    args: PropagateArgs,
+}
+
+impl PropagateArgs {
+    /// The arguments `text` of `batch --propagate` for the tracked folder `tracked`. The carried
+    /// frames go into the cache's own folder (`TRACKED/propagated`), which the batch owns and a
+    /// rerun rewrites, so `--out` is refused and `--force` implied.
+    pub(super) fn for_batch(tracked: &Path, text: &str) -> Result<Self, CliError> {
+        let words = std::iter::once(tracked.as_os_str().to_owned())
+            .chain(text.split_whitespace().map(OsString::from));
+        let bad = |message: String| CliError::FollowUpArgs {
+            flag: "--propagate",
+            message,
+        };
+        let mut args = BatchPropagate::try_parse_from(words)
+            .map_err(|e| {
+                bad(e
+                    .to_string()
+                    .trim_start_matches("error: ")
+                    .trim()
+                    .to_string())
+            })?
+            .args;
+        if args.out.is_some() {
+            return Err(bad(
+                "takes no --out: each cache's carried frames go into OUTROOT/NAME/propagated"
+                    .to_string(),
+            ));
+        }
+        args.force = true;
+        Ok(args)
+    }
+}
+
+/// Carries the data `args` asks for through the tracked folder; returns the line that says so.
+pub(super) fn propagate_tracked(args: &PropagateArgs) -> Result<String, CliError> {
     let projection = Projection::from(args.projection);
     let mut channels = Vec::new();
     if let Some(path) = &args.image {
@@ -128,7 +174,7 @@ pub fn run(args: &PropagateArgs) -> Result<(), CliError> {
         .unwrap_or_else(|| args.tracked.join("propagated"));
     let summary = propagate(&args.tracked, &out, &options, args.force)?;
     let names = super::channel_names(&summary.channels);
-    println!(
+    Ok(format!(
         "carried {} {} from frame {} through {} frames into {}",
         if names.len() == 1 {
             "channel"
@@ -139,6 +185,5 @@ pub fn run(args: &PropagateArgs) -> Result<(), CliError> {
         summary.start.frame,
         summary.vertices.len(),
         out.display()
-    );
-    Ok(())
+    ))
 }

@@ -5,12 +5,13 @@ use super::CliError;
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::{Deserialize, Serialize};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use surftrack::compute::{Backend, BackendChoice};
 use surftrack::io::discover_sequence;
 use surftrack::register::FineOptions;
 use surftrack::sequence::{
-    FrameFormat, FrameSource, Layout, Output, Progress, SUMMARY_FILE, Start, track_sequence,
+    FrameFormat, FrameSource, Layout, Output, Progress, RunReport, SUMMARY_FILE, Start,
+    track_sequence,
 };
 use surftrack::topology::subgrid::Fidelity;
 use surftrack::track::{FrameLog, MAX_DISTANCE, Motion, TRACK_MAX_DEVIATION, TrackOptions};
@@ -181,31 +182,24 @@ impl MeshFormat {
 pub fn run(args: &TrackArgs) -> Result<(), CliError> {
     // Checked before anything is read or written.
     let format = args.format.frame_format()?;
-    let sequence = discover_sequence(&args.input)?;
-    for (from, to) in &sequence.gaps {
-        eprintln!("warning: input frames {from}..={to} are missing; tracking across the gap");
-    }
-    let mut input: Vec<PathBuf> = sequence.frames.into_iter().map(|(_, p)| p).collect();
-    if let Some(n) = args.frames {
-        input.truncate(n);
+    let (input, warnings) = input_frames(&args.input, args.frames)?;
+    for warning in warnings {
+        eprintln!("{warning}");
     }
     let backend = Backend::select(args.backend)?;
-    let output = Output {
-        layout: Layout::new(&args.out),
-        format,
-        params: &args.params,
-        start: if args.resume {
-            Start::Resume
-        } else {
-            Start::Fresh { force: args.force }
-        },
+    let start = if args.resume {
+        Start::Resume
+    } else {
+        Start::Fresh { force: args.force }
     };
     let bar = progress_bar(input.len(), 0, args.quiet);
-    let report = track_sequence(
-        FrameSource::Files(&input),
+    let report = track_into(
+        &input,
+        &args.out,
+        format,
+        &args.params,
+        start,
         &backend,
-        &args.params.options(),
-        Some(output),
         |progress| match progress {
             Progress::Tracking { k, done } => {
                 bar.set_position(done as u64);
@@ -231,6 +225,53 @@ pub fn run(args: &TrackArgs) -> Result<(), CliError> {
         );
     }
     Ok(())
+}
+
+/// The frames of `input` (a folder, a pattern or one file) in numeric order, at most `limit`,
+/// and a warning for each gap in their numbers.
+pub(super) fn input_frames(
+    input: &Path,
+    limit: Option<usize>,
+) -> Result<(Vec<PathBuf>, Vec<String>), CliError> {
+    let sequence = discover_sequence(input)?;
+    let warnings = sequence
+        .gaps
+        .iter()
+        .map(|(from, to)| {
+            format!("warning: input frames {from}..={to} are missing; tracking across the gap")
+        })
+        .collect();
+    let mut frames: Vec<PathBuf> = sequence.frames.into_iter().map(|(_, p)| p).collect();
+    if let Some(n) = limit {
+        frames.truncate(n);
+    }
+    Ok((frames, warnings))
+}
+
+/// Tracks `frames` into the folder `out` with `params`: where `track` and `batch` hand a run to
+/// the sequence driver.
+pub(super) fn track_into(
+    frames: &[PathBuf],
+    out: &Path,
+    format: FrameFormat,
+    params: &MethodParams,
+    start: Start,
+    backend: &Backend,
+    progress: impl FnMut(Progress),
+) -> Result<RunReport, CliError> {
+    let output = Output {
+        layout: Layout::new(out),
+        format,
+        params,
+        start,
+    };
+    Ok(track_sequence(
+        FrameSource::Files(frames),
+        backend,
+        &params.options(),
+        Some(output),
+        progress,
+    )?)
 }
 
 fn log_line(log: &FrameLog) -> String {
