@@ -1,4 +1,5 @@
 use std::path::PathBuf;
+use surftrack::apps::waves::WaveError;
 use surftrack::compute::ComputeError;
 use surftrack::eval::EvalError;
 use surftrack::export::ExportError;
@@ -37,6 +38,8 @@ pub enum CliError {
     Eval(#[from] EvalError),
     #[error(transparent)]
     Export(#[from] ExportError),
+    #[error(transparent)]
+    Waves(#[from] WaveError),
     #[error(
         "track writes PLY frames only: OBJ cannot carry the persistent vertex ids that propagate, eval, export and --resume read; write OBJ from the tracked frames with `surftrack propagate TRACKED --format obj`"
     )]

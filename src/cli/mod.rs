@@ -9,6 +9,7 @@ mod inspect;
 mod propagate;
 mod synth;
 mod track;
+mod waves;
 
 pub use error::CliError;
 
@@ -54,6 +55,10 @@ enum Command {
     /// persistent `id` primvar, carried channels and `velocities` (motion blur), and/or PLY frames
     /// with velocities as `vx vy vz`.
     Export(export::ExportArgs),
+    /// Simulate waves on a tracked surface (paper §5): the wave equation with the cotangent
+    /// Laplacian, its state carried through the event lists, waves started where the topology
+    /// changes. Writes PLY frames with a `height` vertex property.
+    Waves(waves::WavesArgs),
 }
 
 /// `name (components)` for each carried channel, as the summaries print them.
@@ -74,5 +79,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Propagate(args) => propagate::run(&args),
         Command::Eval(args) => eval::run(&args),
         Command::Export(args) => export::run(&args),
+        Command::Waves(args) => waves::run(&args),
     }
 }
