@@ -6,6 +6,7 @@ use surftrack::export::ExportError;
 use surftrack::io::IoError;
 use surftrack::mesh::MeshError;
 use surftrack::propagate::PropagateError;
+use surftrack::render::RenderError;
 use surftrack::synth::SynthError;
 use thiserror::Error;
 
@@ -40,6 +41,8 @@ pub enum CliError {
     Export(#[from] ExportError),
     #[error(transparent)]
     Waves(#[from] WaveError),
+    #[error(transparent)]
+    Render(#[from] RenderError),
     #[error(
         "track writes PLY frames only: OBJ cannot carry the persistent vertex ids that propagate, eval, export and --resume read; write OBJ from the tracked frames with `surftrack propagate TRACKED --format obj`"
     )]

@@ -7,6 +7,7 @@ mod eval;
 mod export;
 mod inspect;
 mod propagate;
+mod render;
 mod synth;
 mod track;
 mod waves;
@@ -41,7 +42,8 @@ enum Command {
     /// paths side by side, and report peak memory.
     Bench(bench::BenchArgs),
     /// Run the whole pipeline on built-in scenes with a merge and a split: generate, track,
-    /// propagate a checker texture forward, evaluate; everything goes under ./surftrack-demo/.
+    /// propagate a checker texture forward, evaluate and chart, simulate waves from the merge,
+    /// render previews; everything goes under ./surftrack-demo/.
     Demo(demo::DemoArgs),
     /// Carry per-vertex data through a tracked sequence using its event lists (paper §4.6): a
     /// checkerboard or image colour, texture coordinates, an attribute painted on a mesh, optionally
@@ -59,6 +61,10 @@ enum Command {
     /// Laplacian, its state carried through the event lists, waves started where the topology
     /// changes. Writes PLY frames with a `height` vertex property.
     Waves(waves::WavesArgs),
+    /// Render every frame of a tracked, propagated or wave folder to PNG off-screen with wgpu
+    /// (any Vulkan device; lavapipe will do): vertex colours, a texture through `uv`, or a scalar
+    /// such as `height` through a colour map; plus a contact sheet and an animated GIF.
+    Render(render::RenderArgs),
 }
 
 /// `name (components)` for each carried channel, as the summaries print them.
@@ -80,5 +86,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Eval(args) => eval::run(&args),
         Command::Export(args) => export::run(&args),
         Command::Waves(args) => waves::run(&args),
+        Command::Render(args) => render::run(&args),
     }
 }
