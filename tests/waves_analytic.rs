@@ -32,13 +32,16 @@ fn measured_frequency(samples: &[(f64, f64)]) -> f64 {
     2.0 * std::f64::consts::PI / (crossings[2] - crossings[0])
 }
 
+/// A real spherical harmonic of degree `l`, as a function of the unit direction.
+type Mode = fn(DVec3) -> f64;
+
 #[test]
 fn a_spherical_harmonic_oscillates_at_its_analytic_frequency() {
     let radius = 1.5;
     let sphere = IndexedMesh::icosphere(Vec3::ZERO, radius as f32, 5);
     let laplacian = Laplacian::of(&sphere);
     let speed = 0.8;
-    let modes: [(u32, fn(DVec3) -> f64); 2] = [
+    let modes: [(u32, Mode); 2] = [
         (2, |p| 3.0 * p.z * p.z - 1.0),
         (3, |p| p.x * (5.0 * p.z * p.z - 1.0)),
     ];

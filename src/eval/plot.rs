@@ -265,6 +265,7 @@ fn panel<DB: DrawingBackend>(
     chart
         .configure_mesh()
         .x_desc("frame")
+        .x_label_formatter(&|x| format!("{x:.0}"))
         .y_desc(unit)
         .label_style((FAMILY, 12))
         .draw()?;

@@ -40,7 +40,7 @@ impl Laplacian {
                 entries.push((j, i, 0.5 * cot));
             }
         }
-        entries.sort_by(|x, y| (x.0, x.1).cmp(&(y.0, y.1)));
+        entries.sort_by_key(|x| (x.0, x.1));
         let mut offsets = vec![0usize; n + 1];
         let mut neighbours = Vec::with_capacity(entries.len() / 2);
         let mut weights = Vec::with_capacity(entries.len() / 2);
