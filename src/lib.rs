@@ -17,6 +17,7 @@ pub mod mesh;
 pub mod project;
 pub mod propagate;
 pub mod register;
+pub mod render;
 pub mod sequence;
 pub mod synth;
 pub mod topology;

@@ -40,6 +40,12 @@ fn demo_runs_and_writes_its_outputs() {
         .filter(|p| p.extension().is_some_and(|e| e == "events"))
         .collect();
     assert!(!tracked.is_empty(), "the demo wrote no event lists");
+    for scene in ["merge", "split"] {
+        let chart = out.join(scene).join("eval.png");
+        assert!(chart.is_file(), "no chart {}", chart.display());
+        assert!(stdout.contains(&chart.display().to_string()), "{stdout}");
+    }
+    assert!(out.join("merge/waves/frame_0000.ply").is_file());
 }
 
 fn walk(dir: &Path) -> Vec<std::path::PathBuf> {

@@ -1,5 +1,6 @@
 //! `surftrack demo`: the whole pipeline on built-in scenes with a merge and a split — generate,
-//! track, propagate a checker texture forward, evaluate — written under `./surftrack-demo/`.
+//! track, propagate a checker texture forward, evaluate and chart, simulate waves from the merge,
+//! render previews — written under `./surftrack-demo/`.
 
 use super::{Cli, CliError};
 use clap::{Args, Parser};
@@ -40,6 +41,8 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
     surftrack::io::prepare_output_dir(&args.out, args.force)?;
     let resolution = args.resolution.to_string();
     let frames = args.frames.to_string();
+    let mut charts = Vec::new();
+    let mut previews_written = Vec::new();
     for scene in ["merge", "split"] {
         let dir = args.out.join(scene);
         let (input, tracked, checker) = (
@@ -86,11 +89,38 @@ pub fn run(args: &DemoArgs) -> Result<(), CliError> {
             ]
             .concat(),
         )?;
-        run_command(&["eval", &tracked])?;
+        let chart = text(&dir.join("eval.png"));
+        run_command(&[&["eval", &tracked, "--plot", &chart][..], force].concat())?;
+        charts.push(chart);
+        let mut shown = vec![(checker.clone(), text(&dir.join("previews")))];
+        if scene == "merge" {
+            let waves = text(&dir.join("waves"));
+            run_command(&[&["waves", &tracked, "-o", &waves][..], force].concat())?;
+            shown.push((waves, text(&dir.join("wave-previews"))));
+        }
+        for (frames, previews) in shown {
+            let render = [&["render", &frames, "-o", &previews][..], force].concat();
+            match run_command(&render) {
+                Ok(()) => previews_written.push(previews),
+                Err(CliError::Compute(error)) => {
+                    println!("no previews of {frames}: {error}");
+                }
+                Err(error) => return Err(error),
+            }
+        }
     }
     println!(
         "\nDone. Look at:\n  {0}/*/tracked/frames/  the coherent tracked meshes (PLY, persistent `id` per vertex)\n  {0}/*/tracked/events/  the per-frame event lists (docs/event_format.md)\n  {0}/*/checker/         the checker texture carried forward (OBJ with vertex colours, PLY)\n  {0}/*/tracked/eval.json the evaluation above as JSON",
         args.out.display()
     );
+    for chart in &charts {
+        println!("  {chart}  per-frame coherence, Hausdorff, topology and stage times");
+    }
+    for previews in &previews_written {
+        println!(
+            "  {0}/sheet.png  {0}/animation.gif  {0}/frame_*.png  the rendered previews",
+            previews
+        );
+    }
     Ok(())
 }

@@ -1,10 +1,12 @@
 use std::path::PathBuf;
+use surftrack::apps::waves::WaveError;
 use surftrack::compute::ComputeError;
 use surftrack::eval::EvalError;
 use surftrack::export::ExportError;
 use surftrack::io::IoError;
 use surftrack::mesh::MeshError;
 use surftrack::propagate::PropagateError;
+use surftrack::render::RenderError;
 use surftrack::synth::SynthError;
 use thiserror::Error;
 
@@ -37,6 +39,10 @@ pub enum CliError {
     Eval(#[from] EvalError),
     #[error(transparent)]
     Export(#[from] ExportError),
+    #[error(transparent)]
+    Waves(#[from] WaveError),
+    #[error(transparent)]
+    Render(#[from] RenderError),
     #[error(
         "track writes PLY frames only: OBJ cannot carry the persistent vertex ids that propagate, eval, export and --resume read; write OBJ from the tracked frames with `surftrack propagate TRACKED --format obj`"
     )]

@@ -4,7 +4,7 @@ use super::CliError;
 use clap::{Args, Parser};
 use std::path::{Path, PathBuf};
 use surftrack::compute::{Backend, BackendChoice};
-use surftrack::eval::{EvalOptions, EvalReport, evaluate};
+use surftrack::eval::{EvalOptions, EvalReport, evaluate, plot, stage_times};
 use surftrack::io::atomic_write;
 
 #[derive(Debug, Args)]
@@ -34,9 +34,19 @@ pub struct EvalArgs {
     /// Hausdorff above --max-hausdorff, or under 99% of triangles above --min-angle.
     #[arg(long)]
     strict: bool,
+    /// Also draw the per-frame coherence, Hausdorff distance, topology and stage times as a chart
+    /// (PNG or SVG by the extension).
+    #[arg(long, value_name = "FILE.png|FILE.svg")]
+    plot: Option<PathBuf>,
+    /// Replace an existing --plot file.
+    #[arg(long, requires = "plot")]
+    force: bool,
 }
 
 pub fn run(args: &EvalArgs) -> Result<(), CliError> {
+    if let Some(path) = &args.plot {
+        check_plot_path(path, args.force)?;
+    }
     let report = report(args)?;
     match &args.json {
         Some(path) if path.as_os_str() == "-" => {
@@ -50,6 +60,10 @@ pub fn run(args: &EvalArgs) -> Result<(), CliError> {
             let path = write_report(&report, args)?;
             println!("JSON report: {}", path.display());
         }
+    }
+    if let Some(path) = &args.plot {
+        plot(&report, &stage_times(&args.tracked)?, path)?;
+        println!("chart: {}", path.display());
     }
     if args.strict && !report.summary.failing_frames.is_empty() {
         return Err(CliError::EvalFailed {
@@ -103,4 +117,23 @@ fn write_report(report: &EvalReport, args: &EvalArgs) -> Result<PathBuf, CliErro
     let json = serde_json::to_vec_pretty(report)?;
     atomic_write(&path, |w| w.write_all(&json))?;
     Ok(path)
+}
+
+/// Refuses a chart file that is neither PNG nor SVG, or that exists without --force, before the
+/// evaluation runs.
+fn check_plot_path(path: &Path, force: bool) -> Result<(), CliError> {
+    let refuse = |message: &str| CliError::Manifest {
+        path: path.to_path_buf(),
+        message: message.to_string(),
+    };
+    if !matches!(
+        path.extension().and_then(|e| e.to_str()),
+        Some("png" | "svg")
+    ) {
+        return Err(refuse("the chart's file must end in .png or .svg"));
+    }
+    if path.exists() && !force {
+        return Err(refuse("exists; pass --force to replace it"));
+    }
+    Ok(())
 }

@@ -8,8 +8,10 @@ mod eval;
 mod export;
 mod inspect;
 mod propagate;
+mod render;
 mod synth;
 mod track;
+mod waves;
 
 pub use error::CliError;
 
@@ -46,7 +48,8 @@ enum Command {
     /// paths side by side, and report peak memory.
     Bench(bench::BenchArgs),
     /// Run the whole pipeline on built-in scenes with a merge and a split: generate, track,
-    /// propagate a checker texture forward, evaluate; everything goes under ./surftrack-demo/.
+    /// propagate a checker texture forward, evaluate and chart, simulate waves from the merge,
+    /// render previews; everything goes under ./surftrack-demo/.
     Demo(demo::DemoArgs),
     /// Carry per-vertex data through a tracked sequence using its event lists (paper §4.6): a
     /// checkerboard or image colour, texture coordinates, an attribute painted on a mesh, optionally
@@ -60,6 +63,14 @@ enum Command {
     /// persistent `id` primvar, carried channels and `velocities` (motion blur), and/or PLY frames
     /// with velocities as `vx vy vz`.
     Export(export::ExportArgs),
+    /// Simulate waves on a tracked surface (paper §5): the wave equation with the cotangent
+    /// Laplacian, its state carried through the event lists, waves started where the topology
+    /// changes. Writes PLY frames with a `height` vertex property.
+    Waves(waves::WavesArgs),
+    /// Render every frame of a tracked, propagated or wave folder to PNG off-screen with wgpu
+    /// (any Vulkan device; lavapipe will do): vertex colours, a texture through `uv`, or a scalar
+    /// such as `height` through a colour map; plus a contact sheet and an animated GIF.
+    Render(render::RenderArgs),
 }
 
 /// `name (components)` for each carried channel, as the summaries print them.
@@ -81,5 +92,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Command::Propagate(args) => propagate::run(&args),
         Command::Eval(args) => eval::run(&args),
         Command::Export(args) => export::run(&args),
+        Command::Waves(args) => waves::run(&args),
+        Command::Render(args) => render::run(&args),
     }
 }

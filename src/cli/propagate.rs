@@ -5,11 +5,12 @@ use clap::{ArgGroup, Args, Parser, ValueEnum};
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use surftrack::propagate::{
-    Axis, Channel, Direction, Displace, Projection, PropagateOptions, Texture, propagate,
+    Axis, BlendOptions, Channel, Direction, Displace, Projection, PropagateOptions, Texture, blend,
+    propagate,
 };
 
 #[derive(Debug, Args)]
-#[command(group(ArgGroup::new("direction").required(true).args(["forward", "backward"])))]
+#[command(group(ArgGroup::new("direction").required(true).args(["forward", "backward", "blend"])))]
 pub struct PropagateArgs {
     /// The output directory of `surftrack track` (frames/ and events/).
     tracked: PathBuf,
@@ -19,6 +20,18 @@ pub struct PropagateArgs {
     /// Start from the last frame and carry values backward to frame 0.
     #[arg(long)]
     backward: bool,
+    /// Carry the channels forward from frame 0 and backward from the last frame (painted there by
+    /// the same options, or by --end-image / --end-from), and blend the two on every frame by its
+    /// position in the sequence (paper §5, morphs). Writes OUT/forward/, OUT/backward/ and the blend
+    /// in OUT.
+    #[arg(long)]
+    blend: bool,
+    /// With --blend: the PNG image painted on the last frame instead of --image.
+    #[arg(long, value_name = "PNG", requires = "blend", requires = "image")]
+    end_image: Option<PathBuf>,
+    /// With --blend: the mesh file holding --attribute for the last frame instead of --from.
+    #[arg(long, value_name = "MESH", requires = "blend", requires = "attribute")]
+    end_from: Option<PathBuf>,
     /// Where to write the frames (created; an existing non-empty one needs --force).
     /// Default: TRACKED/propagated.
     #[arg(short, long)]
@@ -133,14 +146,18 @@ impl PropagateArgs {
     }
 }
 
-/// Carries the data `args` asks for through the tracked folder; returns the line that says so.
-pub(super) fn propagate_tracked(args: &PropagateArgs) -> Result<String, CliError> {
+/// The channels the options paint on one end, with its image and attribute file.
+fn channels(
+    args: &PropagateArgs,
+    image: Option<&PathBuf>,
+    from: Option<&PathBuf>,
+) -> Result<Vec<Channel>, CliError> {
     let projection = Projection::from(args.projection);
     let mut channels = Vec::new();
-    if let Some(path) = &args.image {
+    if let Some(path) = image {
         channels.push(Channel::image(Texture::read_png(path)?, projection));
     }
-    if let (Some(name), Some(path)) = (&args.attribute, &args.from) {
+    if let (Some(name), Some(path)) = (&args.attribute, from) {
         channels.push(Channel::attribute(path.clone(), name));
     }
     let has_colour = channels.iter().any(|c| c.name == "color");
@@ -150,6 +167,13 @@ pub(super) fn propagate_tracked(args: &PropagateArgs) -> Result<String, CliError
     if args.uv {
         channels.push(Channel::uv(projection));
     }
+    Ok(channels)
+}
+
+/// Carries the data `args` asks for through the tracked folder (or blends it, with `--blend`);
+/// returns the line that says so.
+pub(super) fn propagate_tracked(args: &PropagateArgs) -> Result<String, CliError> {
+    let channels = channels(args, args.image.as_ref(), args.from.as_ref())?;
     let displace = args.displace.map(|scale| Displace {
         channel: match &args.attribute {
             Some(name) if !channels.iter().any(|c| c.name == "color") => name.clone(),
@@ -157,6 +181,28 @@ pub(super) fn propagate_tracked(args: &PropagateArgs) -> Result<String, CliError
         },
         scale,
     });
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| args.tracked.join("propagated"));
+    if args.blend {
+        let last = channels_at_end(args)?;
+        let options = BlendOptions {
+            first: channels,
+            last,
+            displace,
+            ply: args.format != OutputFormat::Obj,
+            obj: args.format != OutputFormat::Ply,
+        };
+        let summary = blend(&args.tracked, &out, &options, args.force)?;
+        return Ok(format!(
+            "blended {} carried forward from frame 0 with the same carried backward from frame {} over {} frames into {}",
+            super::channel_names(&summary.forward.channels).join(", "),
+            summary.backward.start.frame,
+            summary.weights.len(),
+            out.display()
+        ));
+    }
     let options = PropagateOptions {
         direction: if args.backward {
             Direction::Backward
@@ -168,10 +214,6 @@ pub(super) fn propagate_tracked(args: &PropagateArgs) -> Result<String, CliError
         ply: args.format != OutputFormat::Obj,
         obj: args.format != OutputFormat::Ply,
     };
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| args.tracked.join("propagated"));
     let summary = propagate(&args.tracked, &out, &options, args.force)?;
     let names = super::channel_names(&summary.channels);
     Ok(format!(
@@ -186,4 +228,13 @@ pub(super) fn propagate_tracked(args: &PropagateArgs) -> Result<String, CliError
         summary.vertices.len(),
         out.display()
     ))
+}
+
+/// The channels painted on the last frame of a blend.
+fn channels_at_end(args: &PropagateArgs) -> Result<Vec<Channel>, CliError> {
+    channels(
+        args,
+        args.end_image.as_ref().or(args.image.as_ref()),
+        args.end_from.as_ref().or(args.from.as_ref()),
+    )
 }

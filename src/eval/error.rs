@@ -19,6 +19,8 @@ pub enum EvalError {
     Distance { path: PathBuf, source: ProjectError },
     #[error("{}: no 3-component `color` channel to measure a checker on", path.display())]
     NoColour { path: PathBuf },
+    #[error("{}: cannot draw the chart: {reason}", path.display())]
+    Plot { path: PathBuf, reason: String },
     #[error("cannot write the JSON report: {0}")]
     Json(#[from] serde_json::Error),
 }

@@ -10,6 +10,7 @@ mod distance;
 mod drift;
 mod error;
 mod options;
+mod plot;
 mod quality;
 mod report;
 mod run;
@@ -22,6 +23,7 @@ pub use distance::{
 pub use drift::{Drift, MaterialPoints};
 pub use error::EvalError;
 pub use options::EvalOptions;
+pub use plot::{plot, stage_times};
 pub use quality::{ASPECT_BUCKETS, TriangleQuality, triangle_quality};
 pub use report::{EvalReport, FrameReport, Summary};
 pub use run::evaluate;

@@ -42,6 +42,10 @@ pub enum PropagateError {
     },
     #[error("{}: not a usable PNG image: {reason}", path.display())]
     Image { path: PathBuf, reason: String },
+    #[error(
+        "a blend needs the same channels on both ends: the first frame has [{first}], the last [{last}]"
+    )]
+    BlendChannels { first: String, last: String },
     #[error("channel '{name}' is given twice")]
     DuplicateChannel { name: String },
     #[error("displacement needs a channel of 1, 3 or 4 components; '{name}' has {components}")]

@@ -7,8 +7,10 @@
 //! [`Texture`] or texture coordinates through a [`Projection`] of the start frame, or an attribute
 //! of any mesh file. [`propagate`] writes the carried channels as PLY vertex properties and as OBJ
 //! texture coordinates and vertex colours, optionally displacing vertices along their normals by a
-//! carried scalar; [`carry`] is the loop itself, for callers that want the frames in memory.
+//! carried scalar; [`carry`] is the loop itself, for callers that want the frames in memory; [`blend`]
+//! mixes a forward and a backward pass frame by frame, the paper's morph colouring (§5).
 
+mod blend;
 mod carry;
 mod checker;
 mod displace;
@@ -21,6 +23,7 @@ mod tracked;
 mod transfer;
 
 pub use crate::sequence::{EVENTS_DIR, FRAMES_DIR, TRACK_FILE, frame_name};
+pub use blend::{BACKWARD_DIR, BlendOptions, BlendSummary, FORWARD_DIR, blend};
 pub use carry::{Direction, carry};
 pub use checker::{Checker, DARK, LIGHT};
 pub use displace::{Displace, displace};
