@@ -9,6 +9,7 @@ use glam::Vec3;
 use surftrack::compute::Backend;
 use surftrack::grid::{GridFrame, ScalarGrid, marching_cubes};
 use surftrack::mesh::{IndexedMesh, Mesh};
+use surftrack::project::{Bvh, closest_points};
 use surftrack::topology::{Field, TopologyOptions, constrain_topology};
 use topology_support::{Case, Kind, Outcome, check, euler_list};
 
@@ -389,4 +390,63 @@ fn a_mesh_within_a_cell_of_its_target_is_left_alone() {
             );
         }
     }
+}
+
+/// A linear field carried through `constrain_topology(mesh, theta)`: the largest amount, over the
+/// vertices the step created, by which the carried value misses the field at the vertex beyond what
+/// the field changes over the vertex's distance to the old surface, relative to the field's
+/// gradient (a length, in grid steps).
+fn linear_field_miss(mesh: &IndexedMesh, theta: &Field) -> f32 {
+    let gradient = Vec3::new(1.0, 2.0, -3.0);
+    let mut m = Mesh::from_indexed(mesh).unwrap();
+    let channel = m.add_attribute("f", 1, 0.0);
+    let slots: Vec<_> = m.vertices().collect();
+    for v in slots {
+        let value = gradient.dot(m.position(v));
+        m.attribute_mut(channel, v)[0] = value;
+    }
+    let before: std::collections::HashSet<u64> = m.vertices().map(|v| m.id(v)).collect();
+    constrain_topology(&mut m, theta, &TopologyOptions::default()).unwrap();
+    let created: Vec<_> = m
+        .vertices()
+        .filter(|&v| !before.contains(&m.id(v)))
+        .collect();
+    assert!(!created.is_empty(), "the step re-sampled nothing");
+    let points: Vec<Vec3> = created.iter().map(|&v| m.position(v)).collect();
+    let bvh = Bvh::build(mesh).unwrap();
+    let old = closest_points(&Backend::Cpu, &bvh, &points, f32::INFINITY).unwrap();
+    created
+        .iter()
+        .zip(&points)
+        .zip(&old)
+        .map(|((&v, &p), hit)| {
+            let miss = (m.attribute(channel, v)[0] - gradient.dot(p)).abs() / gradient.length();
+            miss - hit.distance.abs()
+        })
+        .fold(f32::MIN, f32::max)
+}
+
+/// New patch vertices read the surface the patch replaces at their closest point (barycentric on
+/// its triangles), not an average of the patch boundary: a linear field comes through exactly,
+/// up to the field's change between the vertex and the old surface.
+#[test]
+fn a_patch_takes_the_replaced_surface_at_its_closest_points() {
+    let r = 4.0;
+    let centres = [Vec3::new(-r + 1.0, 0.1, 0.0), Vec3::new(r - 1.0, 0.0, 0.2)];
+    let a = surface(ball(centres[0], r), 0.9);
+    let b = surface(ball(centres[1], r), 0.85);
+    let mut both = a.clone();
+    let offset = both.positions.len() as u32;
+    both.positions.extend(&b.positions);
+    both.triangles
+        .extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
+    // Overlapping spheres merged by their own distance field (Φ(M)), and a hole punched through
+    // one of them (Φ(T)).
+    let merged = linear_field_miss(&both, &phi(&both));
+    let holed = sampled(move |p: Vec3| {
+        ball(centres[0], r)(p).max(1.2 - Vec3::new(p.x - centres[0].x, p.y, 0.0).length())
+    });
+    let punched = linear_field_miss(&a, &holed);
+    println!("linear field missed by {merged} (merge) and {punched} (hole) grid steps");
+    assert!(merged <= 1e-3 && punched <= 1e-3);
 }

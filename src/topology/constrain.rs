@@ -93,11 +93,14 @@ fn resample(
             continue;
         }
         let clock = Instant::now();
-        let outcome = attempt_region(&grid, theta, &region, &mut checks).map(|(built, splits)| {
-            let recorded = record(&grid, &built, &splits, mesh.next_id());
-            let verdict = verify(&built.mesh, &recorded, &target);
-            (built, recorded, verdict)
-        });
+        let outcome = match attempt_region(&grid, theta, &region, &mut checks) {
+            Ok((built, splits)) => {
+                let recorded = record(&grid, &built, &splits, mesh.next_id())?;
+                let verdict = verify(&built.mesh, &recorded, &target);
+                Ok((built, recorded, verdict))
+            }
+            Err(points) => Err(points),
+        };
         report.rebuild += clock.elapsed();
         match outcome {
             Err(points) => {
@@ -294,7 +297,7 @@ fn replace_whole(
         mesh: iso,
         parameters: Default::default(),
     };
-    let recorded = record(grid, &built, &Default::default(), mesh.next_id());
+    let recorded = record(grid, &built, &Default::default(), mesh.next_id())?;
     let surface =
         verify(&built.mesh, &recorded, target).map_err(|_| TopologyError::Unresolved {
             abandoned: report.abandoned.clone(),

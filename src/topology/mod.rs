@@ -37,6 +37,7 @@ mod region;
 mod report;
 mod segment;
 pub mod subgrid;
+mod transfer;
 mod triangulate;
 
 pub use constrain::constrain_topology;

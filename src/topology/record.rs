@@ -4,13 +4,17 @@
 //!
 //! * A cut point is a vertex inserted on the input surface: on a mesh edge (`split_edge`, linear
 //!   in its parameter) or inside a triangle (`split_face`, barycentric).
-//! * A deleted vertex takes, going backward, the average of its neighbours already visited by a
-//!   breadth-first march inward from the patch boundary (the surviving cut points around it): the
-//!   events are listed innermost first, so each rule reads only vertices that still exist when it
-//!   applies, and composing them gives the paper's linear combination of boundary vertices without
-//!   storing it per vertex. No forward rule.
-//! * A new fill vertex takes, going forward, the average of its neighbours already visited by the
-//!   same march over the fill from its boundary, outermost first. No backward rule.
+//! * A new fill vertex takes, going forward, the data of the old surface at its closest point:
+//!   the barycentric combination of the corners of the nearest input triangle ([`Transfer`]). No
+//!   backward rule. The fill is listed before the
+//!   deletions, so every corner it reads still exists when its rule applies.
+//! * A deleted vertex takes, going backward, the data of the new patch (the result's triangles
+//!   with a cut or fill corner) at its closest point. No forward rule. Undone last first, the
+//!   deletions read the fill before the fill itself is undone.
+//! * Where there is no such surface to read (an empty input, or no new triangle), the
+//!   paper's rule stands in: the average of the neighbours already visited by a breadth-first march
+//!   from the patch boundary (the surviving cut points around it), deletions innermost first and
+//!   the fill outermost first, so each rule reads only vertices that still exist when it applies.
 //!
 //! A patch with no boundary (a component appearing or vanishing whole) has nothing to average: each
 //! of its vertices copies the nearest vertex that survives the change (the droplet takes the data of
@@ -23,7 +27,9 @@ use super::build::Built;
 use super::mesh_grid::MeshGrid;
 use super::nearest::Survivors;
 use super::points::Point;
+use super::transfer::Transfer;
 use crate::mesh::Mutation;
+use crate::project::ProjectError;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 /// Ids and record of an assembled surface.
@@ -48,7 +54,7 @@ pub(crate) fn record(
     built: &Built,
     splits: &FxHashMap<u32, Vec<(u8, i32)>>,
     next_id: u64,
-) -> Recorded {
+) -> Result<Recorded, ProjectError> {
     let input = grid.mesh;
     let n_in = input.positions.len();
     let input_ids: Vec<u64> = match &input.ids {
@@ -165,20 +171,45 @@ pub(crate) fn record(
             .map(|(i, _)| (i as u32, built.mesh.positions[i])),
         grid.frame().spacing(),
     );
+    // Going backward, a deleted vertex reads the new patch at its closest point.
+    let patch = Transfer::new(
+        &built.mesh.positions,
+        built
+            .mesh
+            .triangles
+            .iter()
+            .filter(|t| {
+                t.iter()
+                    .any(|&i| !matches!(built.points[i as usize], Point::Vertex(_)))
+            })
+            .copied()
+            .collect(),
+    )?;
+    let on_patch = patch.terms(
+        &order
+            .iter()
+            .map(|&d| input.positions[d as usize])
+            .collect::<Vec<_>>(),
+    )?;
+    let mut deletions: Vec<Mutation> = Vec::new();
     let reached: FxHashSet<u32> = order.iter().copied().collect();
     for &d in deleted.iter().filter(|d| !reached.contains(d)) {
         let source = survivors.nearest(input.positions[d as usize]);
-        record.push(Mutation::PatchDeleted {
+        deletions.push(Mutation::PatchDeleted {
             deleted: input_ids[d as usize],
             sources: source
                 .map(|i| vec![(ids[i as usize], 1.0)])
                 .unwrap_or_default(),
         });
     }
-    for (d, terms) in order.iter().zip(&rules).rev() {
-        record.push(Mutation::PatchDeleted {
+    for ((d, terms), closest) in order.iter().zip(&rules).zip(&on_patch).rev() {
+        deletions.push(Mutation::PatchDeleted {
             deleted: input_ids[*d as usize],
-            sources: rule_ids(terms),
+            sources: if closest.is_empty() {
+                rule_ids(terms)
+            } else {
+                closest.iter().map(|&(i, w)| (ids[i as usize], w)).collect()
+            },
         });
     }
 
@@ -208,17 +239,32 @@ pub(crate) fn record(
     }
     let empty = Vec::new();
     let (order, rules) = march(&fill, |v| adjacent.get(&v).unwrap_or(&empty));
-    for (&v, terms) in order.iter().zip(&rules) {
-        let w = 1.0 / terms.len() as f32;
-        let sources: Vec<u32> = terms
+    // Going forward, a fill vertex reads the old surface at its closest point.
+    let replaced = Transfer::new(&input.positions, input.triangles.clone())?;
+    let on_replaced = replaced.terms(
+        &order
             .iter()
-            .map(|t| match *t {
-                Near::Boundary(i) | Near::Patch(i) => i,
-            })
-            .collect();
+            .map(|&v| built.mesh.positions[v as usize])
+            .collect::<Vec<_>>(),
+    )?;
+    for ((&v, terms), closest) in order.iter().zip(&rules).zip(&on_replaced) {
+        let sources = if closest.is_empty() {
+            let w = 1.0 / terms.len() as f32;
+            terms
+                .iter()
+                .map(|t| match *t {
+                    Near::Boundary(i) | Near::Patch(i) => (ids[i as usize], w),
+                })
+                .collect()
+        } else {
+            closest
+                .iter()
+                .map(|&(u, w)| (input_ids[u as usize], w))
+                .collect()
+        };
         record.push(Mutation::PatchCreated {
             created: ids[v as usize],
-            sources: sources.iter().map(|&s| (ids[s as usize], w)).collect(),
+            sources,
         });
     }
     let reached: FxHashSet<u32> = order.iter().copied().collect();
@@ -231,13 +277,14 @@ pub(crate) fn record(
                 .unwrap_or_default(),
         });
     }
-    Recorded {
+    record.extend(deletions);
+    Ok(Recorded {
         ids,
         record,
         cut,
         patch: fill.len(),
         deleted: deleted.len(),
-    }
+    })
 }
 
 /// Breadth-first march over `patch` (vertices whose neighbours are listed by `near`: `Output`
