@@ -8,7 +8,9 @@ use super::{FrameFormat, Layout, RunState, SequenceError, Summary};
 use crate::compute::Backend;
 use crate::events::EventList;
 use crate::events::file::encode;
-use crate::io::{atomic_write, prepare_output_dir, read_frame, write_ply};
+use crate::io::{
+    ReadOptions, atomic_write, prepare_output_dir, read_frame, read_frame_with, write_ply,
+};
 use crate::mesh::IndexedMesh;
 use crate::track::{FrameLog, TrackOptions, Tracker};
 use serde::Serialize;
@@ -124,7 +126,13 @@ where
                 &Some(o.params.clone()),
             )?;
             let last = o.layout.frame_path(state.completed - 1, state.format);
-            let mesh = read_frame(&last)?.mesh;
+            // The written frame is the tracker's whole state, read as it is: a repair would weld
+            // two vertices that improvement left within the weld distance of each other.
+            let exact = ReadOptions {
+                repair: false,
+                ..ReadOptions::default()
+            };
+            let mesh = read_frame_with(&last, &exact)?.mesh;
             let tracker = Tracker::resume(&mesh, state.next_id, state.edge_length, options)?;
             (tracker, state)
         }

@@ -142,16 +142,19 @@ pub(super) fn decide(
                     .copied()
                     .collect();
                 graft::graft(
-                    &Side::new(
-                        current,
-                        group
-                            .iter()
-                            .flat_map(|&c| &our_triangles[c])
-                            .copied()
-                            .collect(),
+                    (
+                        &Side::new(
+                            current,
+                            group
+                                .iter()
+                                .flat_map(|&c| &our_triangles[c])
+                                .copied()
+                                .collect(),
+                        ),
+                        &Side::new(target, their_triangles[k].clone()),
                     ),
-                    &Side::new(target, their_triangles[k].clone()),
                     &far,
+                    group.len() == 1 && ours[largest].euler == theirs[k].euler,
                     &Bounds {
                         backend,
                         target_bvh: bvh,

@@ -135,12 +135,13 @@ pub(super) struct Bounds<'a> {
 }
 
 /// Grafts `theirs` into `ours` around the samples `far` (farther than the bound from the other
-/// surface) and the grid edges the two cross differently; `None` when the result would not meet
-/// the bounds (see the module comment), or when there is nothing local to graft.
+/// surface) and, unless `shape_only` (`ours` is one component of the input's Euler
+/// characteristic), the grid edges the two cross differently; `None` when the result would not
+/// meet the bounds (see the module comment), or when there is nothing local to graft.
 pub(super) fn graft(
-    ours: &Side,
-    theirs: &Side,
+    (ours, theirs): (&Side, &Side),
     far: &[Vec3],
+    shape_only: bool,
     bounds: &Bounds,
 ) -> Result<Option<Graft>, SubgridError> {
     let frame = GridFrame::new(Vec3::ZERO, bounds.spacing)?;
@@ -148,9 +149,9 @@ pub(super) fn graft(
     let seeds = seeds::seeds(
         bounds.backend,
         &frame,
-        &submesh(ours.mesh, &ours.triangles),
-        &input,
+        (&submesh(ours.mesh, &ours.triangles), &input),
         far,
+        shape_only,
     )?;
     if seeds.all.is_empty() {
         return Ok(None);
@@ -269,12 +270,23 @@ fn attempt(frame: &GridFrame, region: &[[i32; 3]], ours: &Side, theirs: &Side) -
     })
 }
 
-/// Adds the cells `seeds` and their 26 neighbours to `region` (sorted, without repeats).
-fn grow(region: &mut Vec<[i32; 3]>, seeds: &[[i32; 3]]) {
-    region.extend(dilate(seeds, 1));
-    region.sort_unstable();
-    region.dedup();
+/// Adds the cells around `trouble` to `region` (sorted, without repeats): their 26 neighbours,
+/// or, where those all lie in the region already (a far sample or a loose piece deep inside it,
+/// which growing by one would not reach), the next ring out, up to [`REACH`] cells away.
+fn grow(region: &mut Vec<[i32; 3]>, trouble: &[[i32; 3]]) {
+    let size = region.len();
+    for reach in 1..=REACH {
+        region.extend(dilate(trouble, reach));
+        region.sort_unstable();
+        region.dedup();
+        if region.len() > size {
+            return;
+        }
+    }
 }
+
+/// Farthest, in cells, the region grows around one trouble spot in one growth.
+const REACH: u32 = 3;
 
 /// The mesh made of `triangles` of `mesh`, with only the vertices they use (in index order).
 pub(super) fn submesh(mesh: &IndexedMesh, triangles: &[u32]) -> IndexedMesh {

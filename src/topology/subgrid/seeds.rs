@@ -45,14 +45,25 @@ pub(super) fn cell(frame: &GridFrame, p: Vec3) -> Cell {
 
 /// The seeds where `ours` (the tracked component or components, as a mesh of its own) and `input`
 /// (the input's component) differ, with `far` the samples of either farther than the bound from
-/// the other (see the module comment).
+/// the other (see the module comment). With `shape_only` (one tracked component, of the input's
+/// Euler characteristic) only the far samples seed the region: every cluster of differently
+/// crossed edges is then a ripple, or one of several changes that cancel, and grafting some of
+/// them would give the component another topology.
 pub(super) fn seeds(
     backend: &Backend,
     frame: &GridFrame,
-    ours: &IndexedMesh,
-    input: &IndexedMesh,
+    (ours, input): (&IndexedMesh, &IndexedMesh),
     far: &[Vec3],
+    shape_only: bool,
 ) -> Result<Seeds, SubgridError> {
+    let far_cells: Vec<Cell> = far.iter().map(|&p| cell(frame, p)).collect();
+    let mut selected = dilate(&far_cells, 1);
+    if shape_only {
+        return Ok(Seeds {
+            all: selected.clone(),
+            selected,
+        });
+    }
     let our_counts = crossing_counts(backend, frame, ours)?;
     let their_counts = crossing_counts(backend, frame, input)?;
     let differs = |n: u32, m: u32| n != m && n.max(m) >= 2;
@@ -83,8 +94,6 @@ pub(super) fn seeds(
     }
     let grown: Vec<Vec<Cell>> = members.iter().map(|m| dilate(m, 1)).collect();
     let changes = euler_changes(frame, &grown, ours, input);
-    let far_cells: Vec<Cell> = far.iter().map(|&p| cell(frame, p)).collect();
-    let mut selected = dilate(&far_cells, 1);
     let mut all = selected.clone();
     for (cells, change) in grown.into_iter().zip(changes) {
         if change != 0 {
