@@ -157,6 +157,7 @@ pub(super) fn graft(
         return Ok(None);
     }
     let mut widened = seeds.selected.is_empty();
+    let mut rimmed = widened;
     let mut region = if widened {
         seeds.all.clone()
     } else {
@@ -170,6 +171,12 @@ pub(super) fn graft(
             Attempt::Joined(graft) => {
                 match check(&graft, ours.mesh, (theirs.mesh, &input), bounds)? {
                     Verdict::Meets => return Ok(Some(graft)),
+                    // The rim may cut through a selected difference: the region grows by one
+                    // around all of them first, which keeps the graft local.
+                    Verdict::Fails if !rimmed => {
+                        rimmed = true;
+                        region.clone()
+                    }
                     // The selected clusters are not all the difference: every cluster joins.
                     Verdict::Fails if !widened => {
                         widened = true;
