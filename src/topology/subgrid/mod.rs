@@ -51,6 +51,9 @@ use thiserror::Error;
 /// Components whose bounding-box diagonal is at most this many cells count as small.
 pub const SMALL_CELLS: f32 = 4.0;
 
+/// Re-checks of a grafted frame whose graft is improved again (see [`match_and_improve`]).
+const RECHECKS: usize = 2;
+
 /// Most vertices of one component that vote on its match.
 const VOTERS: usize = 256;
 
@@ -172,8 +175,11 @@ pub struct SubgridReport {
 /// it (line 12) and its re-check: [`match_below_grid`], then improvement. Improvement reshapes a
 /// graft's seam, whose thin triangles it may collapse and flip many times over, each step within
 /// its own small bound; the steps can add up to more than `max_distance`. So a grafted frame is
-/// matched again: a component that moved out of bounds is grafted again around where it did, and
-/// if that too moves out, replaced whole, a surface improvement barely touches.
+/// matched again: a component that moved out of bounds is grafted again around where it did (a
+/// component of the input's topology, only around the samples that strayed), and improved, up to
+/// [`RECHECKS`] times; the graft of one more re-check is left as it is, within the bound, its
+/// seam improved with the next frame. Replacing a whole body for a few stray samples would cost
+/// every vertex of it.
 pub fn match_and_improve(
     backend: &Backend,
     mesh: &mut Mesh,
@@ -193,16 +199,18 @@ pub fn match_and_improve(
     let mut counts = match_below_grid(backend, mesh, target, spacing, max_distance, fidelity)?;
     improve_timed(mesh)?;
     let mut grafted = counts.grafted;
-    for again in [Fidelity::Input, Fidelity::InputWhole] {
+    for round in 0..=RECHECKS {
         if grafted == 0 {
             break;
         }
-        let recheck = match_below_grid(backend, mesh, target, spacing, max_distance, again)?;
+        let recheck = match_below_grid(backend, mesh, target, spacing, max_distance, fidelity)?;
         grafted = recheck.grafted;
         if !recheck.changed() {
             break;
         }
-        improve_timed(mesh)?;
+        if round < RECHECKS {
+            improve_timed(mesh)?;
+        }
         counts.grafted = counts.grafted.saturating_sub(recheck.replaced);
         counts.replaced += recheck.replaced;
         counts.deleted += recheck.deleted;
