@@ -417,3 +417,35 @@ fn a_tunnel_through_a_sheet_thinner_than_a_cell_is_grafted() {
     assert!(kept > 0.1, "{:.1}% of the vertices kept", 100.0 * kept);
     events.check().unwrap();
 }
+
+#[test]
+fn a_bridge_thinner_than_a_cell_is_grafted_between_two_bodies() {
+    // The input joins two balls by a strand 0.1 wide, below the topology cell of 0.25; the
+    // tracked balls are apart. Both tracked components lie on the one input component, so the
+    // graft takes the strand and its ends from the input and joins the two balls into one body
+    // of the input's Euler characteristic, keeping most of their vertices.
+    let balls = |p: Vec3| {
+        let a = (p - Vec3::new(-0.55, 0.0, 0.0)).length() - 0.45;
+        let b = (p - Vec3::new(0.55, 0.0, 0.0)).length() - 0.45;
+        a.min(b)
+    };
+    let strand = move |p: Vec3| {
+        let tube = Vec2::new(p.y, p.z).length() - 0.05;
+        balls(p).min(tube.max(p.x.abs() - 0.6))
+    };
+    let ours = surface_of(balls, Vec3::new(-1.25, -0.75, -0.75), 0.04, 63);
+    let target = surface_of(strand, Vec3::new(-1.237, -0.763, -0.741), 0.04, 63);
+    assert_eq!(ours.topology().components.len(), 2);
+    assert_eq!(target.topology().components.len(), 1);
+    let (before, mesh, counts, events) = run_with(&ours, &target, 0.25, 0.25, Fidelity::Input);
+    assert_eq!(counts.grafted, 1, "{counts:?}");
+    assert_eq!(counts.replaced, 0, "{counts:?}");
+    let out = mesh.to_indexed();
+    out.validate().unwrap();
+    let topology = out.topology();
+    assert_eq!(topology.components.len(), 1);
+    assert_eq!(topology.euler(), target.topology().euler());
+    let kept = kept_share(&before, &mesh);
+    assert!(kept > 0.5, "{:.1}% of the vertices kept", 100.0 * kept);
+    events.check().unwrap();
+}

@@ -25,10 +25,12 @@ use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::SubgridError;
 use crate::compute::Backend;
+use crate::geometry::Components;
 use crate::grid::{GridFrame, LatticeMesh, cross_axes, rasterize};
 use crate::mesh::IndexedMesh;
 use crate::topology::classify::dilate;
 use crate::topology::keys::Cell;
+use crate::topology::nearest::Survivors;
 
 /// The cells a graft's region starts from.
 pub(super) struct Seeds {
@@ -48,7 +50,10 @@ pub(super) fn cell(frame: &GridFrame, p: Vec3) -> Cell {
 /// the other (see the module comment). With `shape_only` (one tracked component, of the input's
 /// Euler characteristic) only the far samples seed the region: every cluster of differently
 /// crossed edges is then a ripple, or one of several changes that cancel, and grafting some of
-/// them would give the component another topology.
+/// them would give the component another topology. Where `ours` has several components, the
+/// input's edges whose ends lie nearest to different ones seed it too: there the input joins
+/// what the tracked surface keeps apart, by a bridge that may be too thin for any grid edge to
+/// cross.
 pub(super) fn seeds(
     backend: &Backend,
     frame: &GridFrame,
@@ -56,7 +61,8 @@ pub(super) fn seeds(
     far: &[Vec3],
     shape_only: bool,
 ) -> Result<Seeds, SubgridError> {
-    let far_cells: Vec<Cell> = far.iter().map(|&p| cell(frame, p)).collect();
+    let mut far_cells: Vec<Cell> = far.iter().map(|&p| cell(frame, p)).collect();
+    far_cells.extend(bridges(frame, ours, input));
     let mut selected = dilate(&far_cells, 1);
     if shape_only {
         return Ok(Seeds {
@@ -106,6 +112,43 @@ pub(super) fn seeds(
         set.dedup();
     }
     Ok(Seeds { selected, all })
+}
+
+/// The cells of the input's edges whose ends lie nearest to different components of `ours`
+/// (none when `ours` is one component).
+fn bridges(frame: &GridFrame, ours: &IndexedMesh, input: &IndexedMesh) -> Vec<Cell> {
+    let mut components = Components::new(ours.positions.len(), &ours.triangles);
+    let label: Vec<u32> = (0..ours.positions.len() as u32)
+        .map(|v| components.find(v))
+        .collect();
+    if label.iter().all(|&l| l == label[0]) {
+        return Vec::new();
+    }
+    let near = Survivors::new(
+        ours.positions
+            .iter()
+            .enumerate()
+            .map(|(v, &p)| (v as u32, p)),
+        frame.spacing(),
+    );
+    let owner: Vec<Option<u32>> = input
+        .positions
+        .iter()
+        .map(|&p| near.nearest(p).map(|v| label[v as usize]))
+        .collect();
+    let mut cells = Vec::new();
+    for t in &input.triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
+            if owner[a] != owner[b] {
+                cells.push(cell(frame, input.positions[a]));
+                cells.push(cell(frame, input.positions[b]));
+            }
+        }
+    }
+    cells.sort_unstable();
+    cells.dedup();
+    cells
 }
 
 /// How many times the surface crosses each grid edge it crosses, keyed by (lower corner, axis).
