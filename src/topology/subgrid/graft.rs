@@ -197,7 +197,7 @@ pub(super) fn graft(
 }
 
 /// Most times step 3 or 4 may grow the region around where it failed and try again.
-const GROWTHS: usize = 12;
+const GROWTHS: usize = 24;
 
 /// How one try at steps 2 and 3 ended.
 enum Attempt {
