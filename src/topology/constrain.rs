@@ -28,8 +28,10 @@ use super::mesh_grid::MeshGrid;
 use super::points::Point;
 use super::record::record;
 use super::region::{Checks, grow};
+use super::transfer::Transfer;
 use super::{Abandoned, Resampling, TopologyError, TopologyOptions, TopologyReport};
 use crate::mesh::{IndexedMesh, Mesh, MeshError, Replacement};
+use crate::project::ProjectError;
 
 /// Constrains the topology of `mesh` to that of Θ's isosurface (paper §4.3): where the two differ
 /// deeply, the mesh's triangles are replaced by Θ's isosurface, cut and stitched along the boundary
@@ -71,6 +73,8 @@ fn resample(
     let mut checks = Checks::new(&grid, theta);
     let mut report = TopologyReport::default();
     let mut extra: Vec<Cell> = Vec::new();
+    // The surface every attempt's new vertices read, built by the first attempt that needs it.
+    let mut old: Option<Transfer> = None;
 
     for (attempt, strictness) in ladder(options).iter().enumerate() {
         let clock = Instant::now();
@@ -95,7 +99,8 @@ fn resample(
         let clock = Instant::now();
         let outcome = match attempt_region(&grid, theta, &region, &mut checks) {
             Ok((built, splits)) => {
-                let recorded = record(&grid, &built, &splits, mesh.next_id())?;
+                let old = old_surface(&mut old, &input)?;
+                let recorded = record(&grid, &built, &splits, (mesh.next_id(), old))?;
                 let verdict = verify(&built.mesh, &recorded, &target);
                 Ok((built, recorded, verdict))
             }
@@ -236,6 +241,17 @@ fn verify(
     })
 }
 
+/// The closest-point transfer over `input` held in `slot`, built there the first time.
+fn old_surface<'a>(
+    slot: &'a mut Option<Transfer>,
+    input: &IndexedMesh,
+) -> Result<&'a Transfer, ProjectError> {
+    if slot.is_none() {
+        *slot = Some(Transfer::new(&input.positions, input.triangles.clone())?);
+    }
+    slot.as_ref().ok_or(ProjectError::Target(MeshError::Empty))
+}
+
 /// Cells a point lies in or on.
 fn point_cells(grid: &MeshGrid, p: &Point) -> Vec<Cell> {
     match *p {
@@ -297,7 +313,8 @@ fn replace_whole(
         mesh: iso,
         parameters: Default::default(),
     };
-    let recorded = record(grid, &built, &Default::default(), mesh.next_id())?;
+    let old = Transfer::new(&grid.mesh.positions, grid.mesh.triangles.clone())?;
+    let recorded = record(grid, &built, &Default::default(), (mesh.next_id(), &old))?;
     let surface =
         verify(&built.mesh, &recorded, target).map_err(|_| TopologyError::Unresolved {
             abandoned: report.abandoned.clone(),

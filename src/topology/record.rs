@@ -53,7 +53,7 @@ pub(crate) fn record(
     grid: &MeshGrid,
     built: &Built,
     splits: &FxHashMap<u32, Vec<(u8, i32)>>,
-    next_id: u64,
+    (next_id, old): (u64, &Transfer),
 ) -> Result<Recorded, ProjectError> {
     let input = grid.mesh;
     let n_in = input.positions.len();
@@ -239,9 +239,9 @@ pub(crate) fn record(
     }
     let empty = Vec::new();
     let (order, rules) = march(&fill, |v| adjacent.get(&v).unwrap_or(&empty));
-    // Going forward, a fill vertex reads the old surface at its closest point.
-    let replaced = Transfer::new(&input.positions, input.triangles.clone())?;
-    let on_replaced = replaced.terms(
+    // Going forward, a fill vertex reads the old surface (`old`, over the input) at its closest
+    // point.
+    let on_replaced = old.terms(
         &order
             .iter()
             .map(|&v| built.mesh.positions[v as usize])
