@@ -6,15 +6,15 @@
 //!   in its parameter) or inside a triangle (`split_face`, barycentric).
 //! * A new fill vertex takes, going forward, the data of the old surface at its closest point:
 //!   the barycentric combination of the corners of the nearest input triangle ([`Transfer`]). No
-//!   backward rule. The fill is listed before the
-//!   deletions, so every corner it reads still exists when its rule applies.
+//!   backward rule. The fill is listed before the deletions, so every corner it reads still
+//!   exists when its rule applies.
 //! * A deleted vertex takes, going backward, the data of the new patch (the result's triangles
 //!   with a cut or fill corner) at its closest point. No forward rule. Undone last first, the
 //!   deletions read the fill before the fill itself is undone.
-//! * Where there is no such surface to read (an empty input, or no new triangle), the
-//!   paper's rule stands in: the average of the neighbours already visited by a breadth-first march
-//!   from the patch boundary (the surviving cut points around it), deletions innermost first and
-//!   the fill outermost first, so each rule reads only vertices that still exist when it applies.
+//! * Where there is no such surface to read (an empty input, or no new triangle), the paper's
+//!   rule stands in: the average of the neighbours already visited by a breadth-first march from
+//!   the patch boundary (the surviving cut points around it), deletions innermost first and the
+//!   fill outermost first, so each rule reads only vertices that still exist when it applies.
 //!
 //! A patch with no boundary (a component appearing or vanishing whole) has nothing to average: each
 //! of its vertices copies the nearest vertex that survives the change (the droplet takes the data of
