@@ -6,8 +6,9 @@
 //! per-component Euler characteristics of Θ's isosurface. An attempt that falls short teaches the next one: a
 //! local failure (a triangle that could not be split or triangulated, an invalid element) adds the
 //! cells around it to the seeds; a topology left different by a shallow difference makes the
-//! classification stricter (every difference deep, then every face the cut could not run along, then
-//! wider margins). When every local attempt fails the whole surface is replaced by Θ's isosurface,
+//! classification stricter: every difference deep, first only in the components whose topology
+//! came out wrong (`mismatch`), then everywhere, then every face the cut could not run along, then
+//! wider margins. When every local attempt fails the whole surface is replaced by Θ's isosurface,
 //! which is closed and manifold by construction — that last step is the guarantee, the local
 //! attempts are what keep re-sampling small.
 
@@ -17,7 +18,7 @@ use std::time::Instant;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::build::{Built, build};
-use super::classify::{Strictness, seeds};
+use super::classify::{Strictness, dilate, seeds};
 use super::cut::cut;
 use super::face_arcs::Arc;
 use super::field::Field;
@@ -25,6 +26,7 @@ use super::fill::fill;
 use super::isosurface::{isosurface, place_isosurface, signature};
 use super::keys::{Cell, GridEdge, GridFace, cell_face, cell_neighbour};
 use super::mesh_grid::MeshGrid;
+use super::mismatch::mismatched;
 use super::points::Point;
 use super::record::record;
 use super::region::{Checks, grow};
@@ -76,9 +78,32 @@ fn resample(
     // The surface every attempt's new vertices read, built by the first attempt that needs it.
     let mut old: Option<Transfer> = None;
 
-    for (attempt, strictness) in ladder(options).iter().enumerate() {
+    let steps = ladder(options);
+    let every = Strictness {
+        depth: 0,
+        faces: false,
+        dilate: 0,
+    };
+    // The components whose topology the previous attempt got wrong, and its seeds.
+    let mut focus: Option<(Vec<Cell>, Vec<Cell>)> = None;
+    let (mut step, mut attempt) = (0, 0);
+    while step < steps.len() {
         let clock = Instant::now();
-        let mut cells = seeds(&grid, theta, strictness);
+        let focused = focus.is_some();
+        let mut cells = match focus.take() {
+            Some((wrong, before)) => {
+                let mut cells = seeds(&grid, theta, &every);
+                cells.retain(|c| wrong.binary_search(c).is_ok());
+                cells.extend(before);
+                cells
+            }
+            None => {
+                step += 1;
+                seeds(&grid, theta, &steps[step - 1])
+            }
+        };
+        attempt += 1;
+        let tried = cells.clone();
         cells.extend_from_slice(&extra);
         cells.sort_unstable();
         cells.dedup();
@@ -117,7 +142,9 @@ fn resample(
             }
             Ok((built, recorded, verdict)) => match verdict {
                 Ok(surface) => {
-                    report.resampling = Resampling::Local { attempt };
+                    report.resampling = Resampling::Local {
+                        attempt: attempt - 1,
+                    };
                     report.region = region.iter().copied().collect();
                     report.region.sort_unstable();
                     let replacement = summarize(surface, recorded, &mut report);
@@ -125,7 +152,15 @@ fn resample(
                     report.total = start.elapsed();
                     return Ok((report, Some(replacement)));
                 }
-                Err(Failure::Topology) => report.abandoned.push(Abandoned::Topology),
+                Err(Failure::Topology) => {
+                    report.abandoned.push(Abandoned::Topology);
+                    if !focused && steps[step - 1].depth > 0 {
+                        let wrong = dilate(&mismatched(theta.frame(), &built.mesh, &iso), 1);
+                        if !wrong.is_empty() {
+                            focus = Some((wrong, tried));
+                        }
+                    }
+                }
                 Err(Failure::Element(vertices)) => {
                     let cells: Vec<Cell> = vertices
                         .iter()

@@ -28,6 +28,7 @@ mod fill;
 mod isosurface;
 mod keys;
 mod mesh_grid;
+mod mismatch;
 mod nearest;
 mod options;
 mod place;

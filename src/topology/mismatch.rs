@@ -1,0 +1,132 @@
+//! Where a re-sampled surface's topology came out unlike Θ's (paper §4.3): the components of the
+//! result and of Θ's isosurface that do not pair one to one with equal Euler characteristics. A
+//! shallow difference left out of the region can still change the topology; the next attempt
+//! then counts every difference as deep, but first only in these components' cells rather than
+//! everywhere — on a fluid's rippled surface, everywhere is most of the surface.
+
+use rustc_hash::{FxHashMap, FxHashSet};
+
+use super::keys::Cell;
+use crate::grid::GridFrame;
+use crate::mesh::IndexedMesh;
+
+/// The cells (sorted, without repeats) of the vertices of every component of `result` and of
+/// `iso` that does not pair with exactly one component of the other, lying in the same or
+/// neighbouring cells, of the same Euler characteristic.
+pub(crate) fn mismatched(frame: &GridFrame, result: &IndexedMesh, iso: &IndexedMesh) -> Vec<Cell> {
+    let cell = |p: glam::Vec3| frame.to_grid(p).map(|x| x.floor() as i32);
+    let (ours, our_labels) = result.topology_with_labels();
+    let (theirs, their_labels) = iso.topology_with_labels();
+    let cells_of = |mesh: &IndexedMesh, labels: &[u32]| -> FxHashMap<Cell, Vec<u32>> {
+        let mut at: FxHashMap<Cell, Vec<u32>> = FxHashMap::default();
+        for (&p, &l) in mesh.positions.iter().zip(labels) {
+            if l != u32::MAX {
+                let list = at.entry(cell(p)).or_default();
+                if !list.contains(&l) {
+                    list.push(l);
+                }
+            }
+        }
+        at
+    };
+    let (our_cells, their_cells) = (cells_of(result, &our_labels), cells_of(iso, &their_labels));
+    // The components of the other surface in or next to each component's cells.
+    let partners = |own: &FxHashMap<Cell, Vec<u32>>,
+                    other: &FxHashMap<Cell, Vec<u32>>,
+                    count: usize|
+     -> Vec<FxHashSet<u32>> {
+        let mut near: Vec<FxHashSet<u32>> = vec![FxHashSet::default(); count];
+        for (c, labels) in own {
+            for d in 0..27 {
+                let n = [c[0] + d % 3 - 1, c[1] + (d / 3) % 3 - 1, c[2] + d / 9 - 1];
+                if let Some(found) = other.get(&n) {
+                    for &l in labels {
+                        near[l as usize].extend(found.iter().copied());
+                    }
+                }
+            }
+        }
+        near
+    };
+    let our_partners = partners(&our_cells, &their_cells, ours.components.len());
+    let their_partners = partners(&their_cells, &our_cells, theirs.components.len());
+    let paired = |r: usize| -> Option<usize> {
+        let &i = our_partners[r].iter().next()?;
+        let i = i as usize;
+        (our_partners[r].len() == 1
+            && their_partners[i].len() == 1
+            && ours.components[r].euler == theirs.components[i].euler)
+            .then_some(i)
+    };
+    let mut ours_off = vec![true; ours.components.len()];
+    let mut theirs_off = vec![true; theirs.components.len()];
+    for r in 0..ours.components.len() {
+        if let Some(i) = paired(r) {
+            ours_off[r] = false;
+            theirs_off[i] = false;
+        }
+    }
+    let mut out: Vec<Cell> = our_cells
+        .iter()
+        .filter(|(_, labels)| labels.iter().any(|&l| ours_off[l as usize]))
+        .chain(
+            their_cells
+                .iter()
+                .filter(|(_, labels)| labels.iter().any(|&l| theirs_off[l as usize])),
+        )
+        .map(|(&c, _)| c)
+        .collect();
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    fn frame() -> GridFrame {
+        GridFrame::new(Vec3::ZERO, 0.25).unwrap()
+    }
+
+    fn join(a: &IndexedMesh, b: &IndexedMesh) -> IndexedMesh {
+        let mut both = a.clone();
+        let offset = both.positions.len() as u32;
+        both.positions.extend(&b.positions);
+        both.triangles
+            .extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
+        both
+    }
+
+    #[test]
+    fn paired_components_are_not_mismatched() {
+        let a = IndexedMesh::icosphere(Vec3::new(-2.0, 0.0, 0.0), 1.0, 3);
+        let b = IndexedMesh::icosphere(Vec3::new(2.0, 0.0, 0.0), 1.0, 3);
+        let shifted = IndexedMesh::icosphere(Vec3::new(2.05, 0.0, 0.0), 1.0, 2);
+        assert!(mismatched(&frame(), &join(&a, &b), &join(&a, &shifted)).is_empty());
+    }
+
+    #[test]
+    fn only_the_components_that_differ_are_mismatched() {
+        // The result keeps two balls apart where Θ has them touching as one; a third ball far
+        // away is the same in both and is left out.
+        let left = IndexedMesh::icosphere(Vec3::new(-0.9, 0.0, 0.0), 1.0, 3);
+        let right = IndexedMesh::icosphere(Vec3::new(0.9, 0.0, 0.0), 1.0, 3);
+        let far = IndexedMesh::icosphere(Vec3::new(6.0, 0.0, 0.0), 1.0, 3);
+        let merged = IndexedMesh::icosphere(Vec3::ZERO, 1.9, 3);
+        let wrong = mismatched(
+            &frame(),
+            &join(&join(&left, &right), &far),
+            &join(&merged, &far),
+        );
+        let cell = |p: Vec3| frame().to_grid(p).map(|x| x.floor() as i32);
+        assert!(wrong.binary_search(&cell(left.positions[0])).is_ok());
+        assert!(wrong.binary_search(&cell(right.positions[0])).is_ok());
+        assert!(
+            far.positions
+                .iter()
+                .all(|&p| wrong.binary_search(&cell(p)).is_err())
+        );
+    }
+}
