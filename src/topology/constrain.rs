@@ -155,7 +155,10 @@ fn resample(
                 Err(Failure::Topology) => {
                     report.abandoned.push(Abandoned::Topology);
                     if !focused && steps[step - 1].depth > 0 {
-                        let wrong = dilate(&mismatched(theta.frame(), &built.mesh, &iso), 1);
+                        let wrong = dilate(
+                            &mismatched(theta.frame(), &built.mesh, (&iso, &iso_edges)),
+                            1,
+                        );
                         if !wrong.is_empty() {
                             focus = Some((wrong, tried));
                         }

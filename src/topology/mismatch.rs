@@ -6,22 +6,26 @@
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
-use super::keys::Cell;
+use super::keys::{Cell, GridEdge};
 use crate::grid::GridFrame;
 use crate::mesh::IndexedMesh;
 
-/// The cells (sorted, without repeats) of the vertices of every component of `result` and of
-/// `iso` that does not pair with exactly one component of the other, lying in the same or
-/// neighbouring cells, of the same Euler characteristic.
-pub(crate) fn mismatched(frame: &GridFrame, result: &IndexedMesh, iso: &IndexedMesh) -> Vec<Cell> {
-    let cell = |p: glam::Vec3| frame.to_grid(p).map(|x| x.floor() as i32);
+/// The cells (sorted, without repeats) of the vertices of every component of `result` and of Θ's
+/// isosurface `iso` (its connectivity, one vertex on each grid edge of `edges`) that does not pair
+/// with exactly one component of the other, lying in the same or neighbouring cells, of the same
+/// Euler characteristic.
+pub(crate) fn mismatched(
+    frame: &GridFrame,
+    result: &IndexedMesh,
+    (iso, edges): (&IndexedMesh, &[GridEdge]),
+) -> Vec<Cell> {
     let (ours, our_labels) = result.topology_with_labels();
     let (theirs, their_labels) = iso.topology_with_labels();
-    let cells_of = |mesh: &IndexedMesh, labels: &[u32]| -> FxHashMap<Cell, Vec<u32>> {
+    let cells_of = |cells: &mut dyn Iterator<Item = Cell>, labels: &[u32]| {
         let mut at: FxHashMap<Cell, Vec<u32>> = FxHashMap::default();
-        for (&p, &l) in mesh.positions.iter().zip(labels) {
+        for (c, &l) in cells.zip(labels) {
             if l != u32::MAX {
-                let list = at.entry(cell(p)).or_default();
+                let list = at.entry(c).or_default();
                 if !list.contains(&l) {
                     list.push(l);
                 }
@@ -29,7 +33,15 @@ pub(crate) fn mismatched(frame: &GridFrame, result: &IndexedMesh, iso: &IndexedM
         }
         at
     };
-    let (our_cells, their_cells) = (cells_of(result, &our_labels), cells_of(iso, &their_labels));
+    let our_cells = cells_of(
+        &mut result
+            .positions
+            .iter()
+            .map(|p| frame.to_grid(*p).map(|x| x.floor() as i32)),
+        &our_labels,
+    );
+    // A vertex of the isosurface lies on its grid edge, in the cells around the edge's corner.
+    let their_cells = cells_of(&mut edges.iter().map(|e| e.corner), &their_labels);
     // The components of the other surface in or next to each component's cells.
     let partners = |own: &FxHashMap<Cell, Vec<u32>>,
                     other: &FxHashMap<Cell, Vec<u32>>,
@@ -90,6 +102,20 @@ mod tests {
         GridFrame::new(Vec3::ZERO, 0.25).unwrap()
     }
 
+    /// Whether `result` and `iso` mismatch anywhere, and where: `iso`'s vertices are named by the
+    /// grid edge along the x axis from the corner below them.
+    fn compare(result: &IndexedMesh, iso: &IndexedMesh) -> Vec<Cell> {
+        let edges: Vec<GridEdge> = iso
+            .positions
+            .iter()
+            .map(|&p| GridEdge {
+                corner: frame().to_grid(p).map(|x| x.floor() as i32),
+                axis: 0,
+            })
+            .collect();
+        mismatched(&frame(), result, (iso, &edges))
+    }
+
     fn join(a: &IndexedMesh, b: &IndexedMesh) -> IndexedMesh {
         let mut both = a.clone();
         let offset = both.positions.len() as u32;
@@ -104,7 +130,7 @@ mod tests {
         let a = IndexedMesh::icosphere(Vec3::new(-2.0, 0.0, 0.0), 1.0, 3);
         let b = IndexedMesh::icosphere(Vec3::new(2.0, 0.0, 0.0), 1.0, 3);
         let shifted = IndexedMesh::icosphere(Vec3::new(2.05, 0.0, 0.0), 1.0, 2);
-        assert!(mismatched(&frame(), &join(&a, &b), &join(&a, &shifted)).is_empty());
+        assert!(compare(&join(&a, &b), &join(&a, &shifted)).is_empty());
     }
 
     #[test]
@@ -115,11 +141,7 @@ mod tests {
         let right = IndexedMesh::icosphere(Vec3::new(0.9, 0.0, 0.0), 1.0, 3);
         let far = IndexedMesh::icosphere(Vec3::new(6.0, 0.0, 0.0), 1.0, 3);
         let merged = IndexedMesh::icosphere(Vec3::ZERO, 1.9, 3);
-        let wrong = mismatched(
-            &frame(),
-            &join(&join(&left, &right), &far),
-            &join(&merged, &far),
-        );
+        let wrong = compare(&join(&join(&left, &right), &far), &join(&merged, &far));
         let cell = |p: Vec3| frame().to_grid(p).map(|x| x.floor() as i32);
         assert!(wrong.binary_search(&cell(left.positions[0])).is_ok());
         assert!(wrong.binary_search(&cell(right.positions[0])).is_ok());
