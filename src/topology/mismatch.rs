@@ -72,9 +72,9 @@ pub(crate) fn mismatched(
     };
     let mut ours_off = vec![true; ours.components.len()];
     let mut theirs_off = vec![true; theirs.components.len()];
-    for r in 0..ours.components.len() {
+    for (r, off) in ours_off.iter_mut().enumerate() {
         if let Some(i) = paired(r) {
-            ours_off[r] = false;
+            *off = false;
             theirs_off[i] = false;
         }
     }
