@@ -4,7 +4,7 @@
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
-use surftrack::io::read_frame;
+use surftrack::io::{ReadOptions, read_frame, read_frame_with, write_ply};
 
 fn surftrack() -> Command {
     Command::new(env!("CARGO_BIN_EXE_surftrack"))
@@ -142,4 +142,66 @@ fn tracked_frames_are_closed_manifolds_with_the_input_topology() {
             );
         }
     }
+}
+
+/// The last written frame is the tracker's whole state: resume reads it exactly. Here one of its
+/// vertices lies on another, two rings away (a surface touching itself, as a fluid's does before
+/// the next frame merges it); a weld on reading would make that point a bow-tie and refuse it.
+#[test]
+fn resume_reads_the_last_frame_without_welding() {
+    let tmp = tempfile::tempdir().unwrap();
+    let input = tmp.path().join("in");
+    synth("rigid", &input, "32", "3");
+    let out = tmp.path().join("out");
+    let whole = track(&input, &out, &[]).output().unwrap();
+    assert!(whole.status.success());
+
+    // Roll the run back to two complete frames, as if it had been killed, and move a vertex of
+    // the last one onto the nearest vertex it shares no triangle with.
+    let state_path = out.join("track.json");
+    let mut state: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&state_path).unwrap()).unwrap();
+    state["completed"] = 2.into();
+    state["frames"].as_array_mut().unwrap().truncate(2);
+    std::fs::write(&state_path, state.to_string()).unwrap();
+    std::fs::remove_file(out.join("frames/frame_0002.ply")).unwrap();
+    std::fs::remove_file(out.join("events/0002.events")).unwrap();
+    let last = out.join("frames/frame_0001.ply");
+    let exact = ReadOptions {
+        repair: false,
+        ..ReadOptions::default()
+    };
+    let mut mesh = read_frame_with(&last, &exact).unwrap().mesh;
+    let v = 0u32;
+    let near: std::collections::HashSet<u32> = mesh
+        .triangles
+        .iter()
+        .filter(|t| t.contains(&v))
+        .flatten()
+        .copied()
+        .collect();
+    let p = mesh.positions[v as usize];
+    let w = (0..mesh.positions.len() as u32)
+        .filter(|u| !near.contains(u))
+        .min_by(|&a, &b| {
+            let da = mesh.positions[a as usize].distance(p);
+            let db = mesh.positions[b as usize].distance(p);
+            da.total_cmp(&db)
+        })
+        .unwrap();
+    mesh.positions[v as usize] = mesh.positions[w as usize];
+    write_ply(&last, &mesh).unwrap();
+
+    let resumed = track(&input, &out, &["--resume"]).output().unwrap();
+    assert!(
+        resumed.status.success(),
+        "resume failed: {}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
+    assert_eq!(completed(&out), 3);
+    read_frame(&out.join("frames/frame_0002.ply"))
+        .unwrap()
+        .mesh
+        .validate()
+        .unwrap();
 }
