@@ -33,7 +33,6 @@ use super::region::{Checks, grow};
 use super::transfer::Transfer;
 use super::{Abandoned, Resampling, TopologyError, TopologyOptions, TopologyReport};
 use crate::mesh::{IndexedMesh, Mesh, MeshError, Replacement};
-use crate::project::ProjectError;
 
 /// Constrains the topology of `mesh` to that of Θ's isosurface (paper §4.3): where the two differ
 /// deeply, the mesh's triangles are replaced by Θ's isosurface, cut and stitched along the boundary
@@ -75,8 +74,8 @@ fn resample(
     let mut checks = Checks::new(&grid, theta);
     let mut report = TopologyReport::default();
     let mut extra: Vec<Cell> = Vec::new();
-    // The surface every attempt's new vertices read, built by the first attempt that needs it.
-    let mut old: Option<Transfer> = None;
+    // The surface every attempt's new vertices read.
+    let old = Transfer::new(&input.positions, &input.triangles[..]);
 
     let steps = ladder(options);
     let every = Strictness {
@@ -124,8 +123,7 @@ fn resample(
         let clock = Instant::now();
         let outcome = match attempt_region(&grid, theta, &region, &mut checks) {
             Ok((built, splits)) => {
-                let old = old_surface(&mut old, &input)?;
-                let recorded = record(&grid, &built, &splits, (mesh.next_id(), old))?;
+                let recorded = record(&grid, &built, &splits, (mesh.next_id(), &old))?;
                 let verdict = verify(&built.mesh, &recorded, &target);
                 Ok((built, recorded, verdict))
             }
@@ -180,7 +178,14 @@ fn resample(
         extra = widen(&extra);
     }
     report.region_cells = surface.len();
-    let replacement = replace_whole(mesh, &grid, theta, iso, iso_edges, &target, &mut report)?;
+    let replacement = replace_whole(
+        (mesh, &old),
+        &grid,
+        theta,
+        (iso, iso_edges),
+        &target,
+        &mut report,
+    )?;
     report.total = start.elapsed();
     Ok((report, Some(replacement)))
 }
@@ -279,17 +284,6 @@ fn verify(
     })
 }
 
-/// The closest-point transfer over `input` held in `slot`, built there the first time.
-fn old_surface<'a>(
-    slot: &'a mut Option<Transfer>,
-    input: &IndexedMesh,
-) -> Result<&'a Transfer, ProjectError> {
-    if slot.is_none() {
-        *slot = Some(Transfer::new(&input.positions, input.triangles.clone())?);
-    }
-    slot.as_ref().ok_or(ProjectError::Target(MeshError::Empty))
-}
-
 /// Cells a point lies in or on.
 fn point_cells(grid: &MeshGrid, p: &Point) -> Vec<Cell> {
     match *p {
@@ -336,11 +330,10 @@ fn summarize(
 
 /// The last resort: every input vertex is removed and Θ's isosurface takes the mesh's place.
 fn replace_whole(
-    mesh: &Mesh,
+    (mesh, old): (&Mesh, &Transfer),
     grid: &MeshGrid,
     theta: &Field,
-    mut iso: IndexedMesh,
-    edges: Vec<GridEdge>,
+    (mut iso, edges): (IndexedMesh, Vec<GridEdge>),
     target: &[i64],
     report: &mut TopologyReport,
 ) -> Result<Replacement, TopologyError> {
@@ -351,8 +344,7 @@ fn replace_whole(
         mesh: iso,
         parameters: Default::default(),
     };
-    let old = Transfer::new(&grid.mesh.positions, grid.mesh.triangles.clone())?;
-    let recorded = record(grid, &built, &Default::default(), (mesh.next_id(), &old))?;
+    let recorded = record(grid, &built, &Default::default(), (mesh.next_id(), old))?;
     let surface =
         verify(&built.mesh, &recorded, target).map_err(|_| TopologyError::Unresolved {
             abandoned: report.abandoned.clone(),

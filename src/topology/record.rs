@@ -183,8 +183,8 @@ pub(crate) fn record(
                     .any(|&i| !matches!(built.points[i as usize], Point::Vertex(_)))
             })
             .copied()
-            .collect(),
-    )?;
+            .collect::<Vec<_>>(),
+    );
     let on_patch = patch.terms(
         &order
             .iter()

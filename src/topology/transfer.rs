@@ -9,38 +9,55 @@
 //! new surface lies on the old one the values come back exactly; they blend only across one
 //! triangle, never across the patch.
 
+use std::borrow::Cow;
+use std::cell::OnceCell;
+
 use glam::Vec3;
 
 use crate::compute::Backend;
 use crate::mesh::IndexedMesh;
 use crate::project::{Bvh, ProjectError, closest_points};
 
-/// Triangles to take data from at closest points.
-pub(crate) struct Transfer {
-    bvh: Option<Bvh>,
-    triangles: Vec<[u32; 3]>,
+/// Triangles to take data from at closest points. Their tree is built by the first query, so a
+/// topology step that re-samples nothing builds none, and its attempts share one.
+pub(crate) struct Transfer<'a> {
+    positions: &'a [Vec3],
+    triangles: Cow<'a, [[u32; 3]]>,
+    bvh: OnceCell<Option<Bvh>>,
 }
 
-impl Transfer {
+impl<'a> Transfer<'a> {
     /// Over `triangles`, whose corners index `positions`; with no triangles every query answers
     /// nothing.
-    pub fn new(positions: &[Vec3], triangles: Vec<[u32; 3]>) -> Result<Self, ProjectError> {
-        let bvh = if triangles.is_empty() {
+    pub fn new(positions: &'a [Vec3], triangles: impl Into<Cow<'a, [[u32; 3]]>>) -> Self {
+        Self {
+            positions,
+            triangles: triangles.into(),
+            bvh: OnceCell::new(),
+        }
+    }
+
+    /// The triangles' tree, built the first time; none without triangles.
+    fn tree(&self) -> Result<Option<&Bvh>, ProjectError> {
+        if let Some(tree) = self.bvh.get() {
+            return Ok(tree.as_ref());
+        }
+        let built = if self.triangles.is_empty() {
             None
         } else {
             Some(Bvh::build(&IndexedMesh::new(
-                positions.to_vec(),
-                triangles.clone(),
+                self.positions.to_vec(),
+                self.triangles.to_vec(),
             ))?)
         };
-        Ok(Self { bvh, triangles })
+        Ok(self.bvh.get_or_init(|| built).as_ref())
     }
 
     /// For each of `points`, the corners of the nearest triangle with their barycentric weights at
     /// the closest point (corners of weight 0 left out; the weights sum to 1), or nothing when
     /// there are no triangles.
     pub fn terms(&self, points: &[Vec3]) -> Result<Vec<Vec<(u32, f32)>>, ProjectError> {
-        let Some(bvh) = &self.bvh else {
+        let Some(bvh) = self.tree()? else {
             return Ok(vec![Vec::new(); points.len()]);
         };
         let hits = closest_points(&Backend::Cpu, bvh, points, f32::INFINITY)?;
