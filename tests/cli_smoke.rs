@@ -92,6 +92,60 @@ fn bench_times_two_frames_of_a_given_sequence() {
 }
 
 #[test]
+fn bench_json_gives_the_stage_figures_of_every_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("in");
+    run(surftrack()
+        .args([
+            "synth",
+            "merge",
+            "--resolution",
+            "24",
+            "--frames",
+            "3",
+            "-o",
+        ])
+        .arg(&input));
+    let stdout = run(surftrack()
+        .args(["bench", "--frames", "3", "--json", "--input"])
+        .arg(&input));
+    let report: serde_json::Value =
+        serde_json::from_str(&stdout).unwrap_or_else(|e| panic!("{e} in:\n{stdout}"));
+    let cpu = report["runs"]
+        .as_array()
+        .and_then(|runs| {
+            runs.iter()
+                .find(|r| r["backend"].as_str().is_some_and(|b| b.starts_with("cpu")))
+        })
+        .unwrap_or_else(|| panic!("no CPU run in:\n{stdout}"));
+    assert_eq!(cpu["frames_timed"], 2);
+    assert!(cpu["vertices"].as_u64().is_some_and(|v| v > 0));
+    let t = &cpu["ms_per_frame"];
+    let stage = |name: &str| {
+        t[name]
+            .as_f64()
+            .unwrap_or_else(|| panic!("no {name} in {t}"))
+    };
+    let stages: f64 = [
+        "register",
+        "improve",
+        "topology_self",
+        "topology_target",
+        "reconcile",
+        "residual",
+    ]
+    .iter()
+    .map(|s| stage(s))
+    .sum();
+    // The stages are parts of the frame, timed inside it.
+    assert!(stages > 0.0 && stages <= stage("total") * 1.0001, "{t}");
+    assert!(
+        report["peak_memory_mib"].as_f64().is_some_and(|m| m > 0.0),
+        "{stdout}"
+    );
+}
+
+#[test]
 fn track_on_the_gpu_writes_what_the_cpu_writes() {
     surftrack::compute::parity::run_on_gpu(|_| {
         let dir = tempfile::tempdir().unwrap();

@@ -1,9 +1,12 @@
 //! `surftrack bench`: per-frame time of every stage of Algorithm 1 on a ~16k- and a ~100k-vertex
 //! synthetic sequence, CPU and GPU paths side by side in one run (so the ratio is meaningful on a
-//! shared machine), and the process's peak memory. `--input` times a real sequence instead.
+//! shared machine), and the process's peak memory. `--input` times a real sequence instead;
+//! `--resolution` chooses other sizes (up to production frames); `--json` prints the same figures
+//! as one JSON document for scripts and dashboards.
 
 use super::CliError;
 use clap::Args;
+use serde::Serialize;
 use std::path::PathBuf;
 use surftrack::compute::{Backend, BackendChoice};
 use surftrack::io::{discover_sequence, read_frame};
@@ -28,10 +31,35 @@ pub struct BenchArgs {
     /// Only the ~16k-vertex size.
     #[arg(long)]
     small_only: bool,
+    /// Grid resolution of a synthetic size to time (repeat for several), instead of the scene's
+    /// ~16k and ~100k sizes; `blobs` at 820 gives ~1M-vertex frames.
+    #[arg(long = "resolution", value_name = "N")]
+    resolutions: Vec<usize>,
     /// Time this sequence (directory or pattern, its first --frames frames) instead of the
     /// synthetic ones.
     #[arg(long)]
     input: Option<PathBuf>,
+    /// Print the figures as one JSON document on stdout instead of the table.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Mean time of each stage per timed frame of one sequence on one backend.
+#[derive(Debug, Serialize)]
+struct Row {
+    sequence: String,
+    vertices: usize,
+    backend: String,
+    frames_timed: usize,
+    ms_per_frame: StageTimes,
+}
+
+/// What `--json` prints.
+#[derive(Debug, Serialize)]
+struct Report {
+    runs: Vec<Row>,
+    /// Peak resident set size of the whole run (`VmHWM`), absent where the platform has none.
+    peak_memory_mib: Option<f64>,
 }
 
 /// Grid resolutions giving about 16k and 100k vertices per frame for each scene.
@@ -49,20 +77,28 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         Ok(gpu) => backends.push(gpu),
         Err(e) => eprintln!("GPU path not measured: {e}"),
     }
-    println!(
-        "{:<10} {:>8} {:<28} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}",
-        "sequence",
-        "verts",
-        "backend",
-        "register",
-        "improve",
-        "topo M",
-        "topo T",
-        "reconcile",
-        "residual",
-        "total"
-    );
+    if !args.json {
+        println!(
+            "{:<10} {:>8} {:<28} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}",
+            "sequence",
+            "verts",
+            "backend",
+            "register",
+            "improve",
+            "topo M",
+            "topo T",
+            "reconcile",
+            "residual",
+            "total"
+        );
+    }
+    let print = |row: &Row| {
+        if !args.json {
+            print_row(row);
+        }
+    };
     let frames = args.frames.max(2);
+    let mut runs = Vec::new();
     if let Some(input) = &args.input {
         let sequence = discover_sequence(input)?;
         let meshes: Vec<IndexedMesh> = sequence
@@ -71,9 +107,11 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             .take(frames)
             .map(|(_, path)| read_frame(path).map(|f| f.mesh))
             .collect::<Result<_, _>>()?;
-        time(&sequence.pattern, &meshes, &backends)?;
+        runs.extend(time(&sequence.pattern, &meshes, &backends, print)?);
     } else {
-        let sizes = if args.small_only {
+        let sizes = if !args.resolutions.is_empty() {
+            &args.resolutions[..]
+        } else if args.small_only {
             &resolutions(args.scene)[..1]
         } else {
             &resolutions(args.scene)[..]
@@ -87,22 +125,37 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
                 .take(frames)
                 .map(|f| f.map(|f| f.mesh))
                 .collect::<Result<_, _>>()?;
-            time(args.scene.name(), &meshes, &backends)?;
+            runs.extend(time(args.scene.name(), &meshes, &backends, print)?);
         }
     }
-    match peak_memory_mib() {
-        Some(mib) => println!("peak memory (VmHWM): {mib:.0} MiB"),
-        None => println!("peak memory: not available on this platform"),
+    let peak_memory_mib = peak_memory_mib();
+    if args.json {
+        let report = Report {
+            runs,
+            peak_memory_mib,
+        };
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        match peak_memory_mib {
+            Some(mib) => println!("peak memory (VmHWM): {mib:.0} MiB"),
+            None => println!("peak memory: not available on this platform"),
+        }
     }
     Ok(())
 }
 
-/// Tracks `frames` on each backend and prints the mean time of each stage per frame after the
-/// first.
-fn time(name: &str, frames: &[IndexedMesh], backends: &[Backend]) -> Result<(), CliError> {
+/// Tracks `frames` on each backend and gives the mean time of each stage per frame after the
+/// first (the first only initializes the tracker), handing each row to `print` as it is done.
+fn time(
+    name: &str,
+    frames: &[IndexedMesh],
+    backends: &[Backend],
+    print: impl Fn(&Row),
+) -> Result<Vec<Row>, CliError> {
     let Some(first) = frames.first() else {
-        return Ok(());
+        return Ok(Vec::new());
     };
+    let mut rows = Vec::new();
     for backend in backends {
         let report = track_sequence::<()>(
             FrameSource::Meshes(frames),
@@ -122,22 +175,44 @@ fn time(name: &str, frames: &[IndexedMesh], backends: &[Backend]) -> Result<(), 
             sum.residual += t.residual;
             sum.total += t.total;
         }
-        let n = (frames.len() - 1).max(1) as f64;
-        println!(
-            "{:<10} {:>8} {:<28} {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms",
-            name,
-            first.positions.len(),
-            backend.to_string(),
-            sum.register / n,
-            sum.improve / n,
-            sum.topology_self / n,
-            sum.topology_target / n,
-            sum.reconcile / n,
-            sum.residual / n,
-            sum.total / n
-        );
+        let timed = frames.len() - 1;
+        let n = timed.max(1) as f64;
+        let row = Row {
+            sequence: name.to_string(),
+            vertices: first.positions.len(),
+            backend: backend.to_string(),
+            frames_timed: timed,
+            ms_per_frame: StageTimes {
+                register: sum.register / n,
+                improve: sum.improve / n,
+                topology_self: sum.topology_self / n,
+                topology_target: sum.topology_target / n,
+                reconcile: sum.reconcile / n,
+                residual: sum.residual / n,
+                total: sum.total / n,
+            },
+        };
+        print(&row);
+        rows.push(row);
     }
-    Ok(())
+    Ok(rows)
+}
+
+fn print_row(row: &Row) {
+    let t = &row.ms_per_frame;
+    println!(
+        "{:<10} {:>8} {:<28} {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms",
+        row.sequence,
+        row.vertices,
+        row.backend,
+        t.register,
+        t.improve,
+        t.topology_self,
+        t.topology_target,
+        t.reconcile,
+        t.residual,
+        t.total
+    );
 }
 
 /// Peak resident set size of this process, from `/proc/self/status` (Linux).
