@@ -39,6 +39,10 @@ pub struct BenchArgs {
     /// synthetic ones.
     #[arg(long)]
     input: Option<PathBuf>,
+    /// Time only this backend (cpu, gpu, or auto's choice); by default the CPU path and, where
+    /// there is an adapter, the GPU path side by side.
+    #[arg(long, value_enum)]
+    backend: Option<BackendChoice>,
     /// Print the figures as one JSON document on stdout instead of the table.
     #[arg(long)]
     json: bool,
@@ -72,11 +76,17 @@ fn resolutions(scene: Scene) -> [usize; 2] {
 }
 
 pub fn run(args: &BenchArgs) -> Result<(), CliError> {
-    let mut backends = vec![Backend::Cpu];
-    match Backend::select(BackendChoice::Gpu) {
-        Ok(gpu) => backends.push(gpu),
-        Err(e) => eprintln!("GPU path not measured: {e}"),
-    }
+    let backends = match args.backend {
+        Some(choice) => vec![Backend::select(choice)?],
+        None => {
+            let mut backends = vec![Backend::Cpu];
+            match Backend::select(BackendChoice::Gpu) {
+                Ok(gpu) => backends.push(gpu),
+                Err(e) => eprintln!("GPU path not measured: {e}"),
+            }
+            backends
+        }
+    };
     if !args.json {
         println!(
             "{:<10} {:>8} {:<28} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}",

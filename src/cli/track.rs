@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use surftrack::compute::{Backend, BackendChoice};
 use surftrack::io::discover_sequence;
-use surftrack::register::FineOptions;
+use surftrack::register::{FineOptions, GraphOptions};
 use surftrack::sequence::{
     FrameFormat, FrameSource, Layout, Output, Progress, RunReport, SUMMARY_FILE, Start,
     track_sequence,
@@ -74,6 +74,11 @@ pub struct MethodParams {
     /// Deformation-graph node spacing in units of L (§4.2).
     #[arg(long, default_value_t = 4.0)]
     pub node_spacing: f32,
+    /// At most about this many graph nodes: finer frames space them wider, leaving the detail to
+    /// the per-vertex stage (a two-level registration that keeps 1M-vertex frames tractable).
+    #[arg(long, default_value_t = GraphOptions::default().max_nodes)]
+    #[serde(default = "default_max_graph_nodes")]
+    pub max_graph_nodes: usize,
     /// Correspondences whose normals differ by more than this many degrees are pruned (§4.2).
     #[arg(long, default_value_t = 60.0)]
     pub max_normal_angle: f32,
@@ -112,6 +117,11 @@ pub struct MethodParams {
 }
 
 /// `--fidelity`.
+/// What a run recorded before `--max-graph-nodes` existed resumes with the default.
+fn default_max_graph_nodes() -> usize {
+    GraphOptions::default().max_nodes
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
 pub enum FidelityArg {
     Input,
@@ -143,6 +153,7 @@ impl MethodParams {
         o.improve.edge_ratio = self.edge_ratio;
         o.improve.max_deviation = self.max_deviation;
         o.register.graph.spacing = self.node_spacing;
+        o.register.graph.max_nodes = self.max_graph_nodes;
         o.register.max_angle_degrees = self.max_normal_angle;
         o.register.coarse.alpha_fit = self.alpha_fit;
         o.register.coarse.alpha_reg_start = self.alpha_reg;

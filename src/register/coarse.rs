@@ -24,7 +24,7 @@ use super::cholesky::Cholesky;
 use super::correspond::{Correspond, Projector, targets};
 use super::energy::{CoarseWeights, FitTarget, energy, fit_energy, fit_pulls, gradient};
 use super::geodesic::sample;
-use super::graph::{DeformationGraph, check_indices};
+use super::graph::{DeformationGraph, check_indices, surface_area};
 use super::model::Model;
 use super::operator::GaussNewton;
 use super::options::{CoarseOptions, LinearSolver, RegisterOptions};
@@ -678,12 +678,18 @@ impl Setup {
             return Err(RegisterError::NoScale { which: "source" });
         }
         let surface = Surface::new(&source.positions, &source.triangles, unit);
+        let spacing = options
+            .graph
+            .spacing_for(surface_area(&surface.rest, surface.faces.triangles()));
+        // The fit samples thin out with the nodes, so each node keeps as many as at the paper's
+        // spacing.
+        let sample_spacing = options.coarse.sample_spacing * spacing / options.graph.spacing;
         let (built, (samples, result)) = rayon::join(
             || {
                 let graph = DeformationGraph::from_adjacency(
                     &source.positions,
                     &surface.adjacency,
-                    options.graph.spacing * unit,
+                    spacing * unit,
                     options.graph.skinning_nodes,
                 );
                 let analysis = match options.coarse.solver {
@@ -695,7 +701,7 @@ impl Setup {
                 (graph, analysis)
             },
             || {
-                let samples = fit_samples(&surface, options.coarse.sample_spacing);
+                let samples = fit_samples(&surface, sample_spacing);
                 let result = beside(&surface, &samples);
                 (samples, result)
             },

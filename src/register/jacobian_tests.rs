@@ -49,6 +49,7 @@ fn problem() -> Problem {
         &super::GraphOptions {
             spacing: 2.5,
             skinning_nodes: 4,
+            ..Default::default()
         },
     )
     .unwrap();
