@@ -10,6 +10,17 @@ pub(crate) type Cell = [i32; 3];
 /// A grid corner.
 pub(crate) type Corner = [i32; 3];
 
+/// The offsets of a cell's 26 neighbours (and itself).
+pub(crate) const NEIGHBOURS: [[i32; 3]; 27] = {
+    let mut out = [[0; 3]; 27];
+    let mut i = 0;
+    while i < 27 {
+        out[i] = [i as i32 % 3 - 1, (i as i32 / 3) % 3 - 1, i as i32 / 9 - 1];
+        i += 1;
+    }
+    out
+};
+
 /// `p + unit(axis) * k`.
 pub(crate) fn step(p: [i32; 3], axis: usize, k: i32) -> [i32; 3] {
     let mut q = p;

@@ -6,7 +6,7 @@
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
-use super::keys::{Cell, GridEdge};
+use super::keys::{Cell, GridEdge, NEIGHBOURS};
 use crate::grid::GridFrame;
 use crate::mesh::IndexedMesh;
 
@@ -49,8 +49,8 @@ pub(crate) fn mismatched(
      -> Vec<FxHashSet<u32>> {
         let mut near: Vec<FxHashSet<u32>> = vec![FxHashSet::default(); count];
         for (c, labels) in own {
-            for d in 0..27 {
-                let n = [c[0] + d % 3 - 1, c[1] + (d / 3) % 3 - 1, c[2] + d / 9 - 1];
+            for d in NEIGHBOURS {
+                let n = [c[0] + d[0], c[1] + d[1], c[2] + d[2]];
                 if let Some(found) = other.get(&n) {
                     for &l in labels {
                         near[l as usize].extend(found.iter().copied());

@@ -29,7 +29,7 @@ use crate::geometry::Components;
 use crate::grid::{GridFrame, LatticeMesh, cross_axes, rasterize};
 use crate::mesh::IndexedMesh;
 use crate::topology::classify::dilate;
-use crate::topology::keys::Cell;
+use crate::topology::keys::{Cell, NEIGHBOURS};
 use crate::topology::nearest::Survivors;
 
 /// The cells a graft's region starts from.
@@ -173,17 +173,6 @@ struct Clusters {
     label: Vec<u32>,
     count: usize,
 }
-
-/// The offsets of a cell's 26 neighbours (and itself).
-const NEIGHBOURS: [[i32; 3]; 27] = {
-    let mut out = [[0; 3]; 27];
-    let mut i = 0;
-    while i < 27 {
-        out[i] = [i as i32 % 3 - 1, (i as i32 / 3) % 3 - 1, i as i32 / 9 - 1];
-        i += 1;
-    }
-    out
-};
 
 /// The clusters of `cells` (sorted, without repeats).
 fn clusters(cells: &[Cell]) -> Clusters {
