@@ -12,7 +12,7 @@ pub struct ExportArgs {
     /// The output directory of `surftrack track` (frames/ with persistent ids).
     tracked: PathBuf,
     /// Write one USD Mesh prim sampled per frame: points, topology, extent, velocities and the
-    /// `id` primvar (.usda; .usdc is refused, see the README).
+    /// `id` primvar (.usdc or .usd: binary; .usda: text). Written frame by frame.
     #[arg(long, value_name = "FILE")]
     usd: Option<PathBuf>,
     /// Write PLY frames with `id` and velocities as `vx vy vz` into DIR.
