@@ -171,7 +171,12 @@ mod tests {
         );
         assert_eq!(
             line(2, &Sample::Floats(vec![0.1, -2.0, 1e-20, f32::INFINITY])),
-            "        1.0: [(0.10000000149011612, -2.0), (1.0000000180025095e-20, inf)],\n"
+            "        1.0: [(0.10000000149011612, -2.0), (9.999999682655225e-21, inf)],\n"
+        );
+        // The widened float's shortest decimal reads back as the same float.
+        assert_eq!(
+            "9.999999682655225e-21".parse::<f64>().unwrap() as f32,
+            1e-20f32
         );
         assert_eq!(line(3, &Sample::Floats(Vec::new())), "        1.0: [],\n");
     }
