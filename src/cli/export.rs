@@ -1,4 +1,4 @@
-//! `surftrack export TRACKED --usd OUT.usda --ply DIR`: the tracked sequence with persistent ids,
+//! `surftrack export TRACKED --usd OUT.usdc --ply DIR`: the tracked sequence with persistent ids,
 //! carried channels and velocities, in the forms renderers and DCCs read.
 
 use super::CliError;

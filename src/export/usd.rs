@@ -105,27 +105,13 @@ pub struct FrameSampler {
     channels: Vec<(String, usize)>,
     /// Each primvar with the attribute it takes its values from.
     primvars: Vec<(Primvar, String)>,
+    /// The sampled attributes: the mesh's, then the primvars'.
+    attributes: Vec<UsdAttribute>,
 }
 
 impl FrameSampler {
     /// The sampler for a sequence whose first frame is `first`, read from `path` (named in errors).
     pub fn new(first: &VelocityFrame, path: &Path) -> Result<Self, ExportError> {
-        let mut primvars = Vec::new();
-        for attribute in &first.mesh.attributes {
-            let of = primvar_of(attribute).ok_or_else(|| ExportError::AttributeName {
-                path: path.to_path_buf(),
-                name: attribute.name.clone(),
-            })?;
-            primvars.extend(of.into_iter().map(|p| (p, attribute.name.clone())));
-        }
-        Ok(Self {
-            channels: channels(first),
-            primvars,
-        })
-    }
-
-    /// The attributes, in the order [`FrameSampler::samples`] gives their samples.
-    pub fn attributes(&self) -> Vec<UsdAttribute> {
         let plain = |name: &str, type_name, tuple| UsdAttribute {
             name: name.into(),
             type_name,
@@ -144,26 +130,50 @@ impl FrameSampler {
                 ..plain("primvars:id", "int[]", 1)
             },
         ];
-        for (primvar, _) in &self.primvars {
-            let tuple = match primvar.type_name {
-                "float[]" => 1,
-                "texCoord2f[]" | "float2[]" => 2,
-                "float4[]" => 4,
-                _ => 3,
-            };
-            let element_size = (tuple == 1 && primvar.components > 1)
-                .then(|| i32::try_from(primvar.components).unwrap_or(i32::MAX));
-            attributes.push(UsdAttribute {
-                vertex: true,
-                element_size,
-                ..plain(
-                    &format!("primvars:{}", primvar.name),
-                    primvar.type_name,
-                    tuple,
-                )
-            });
+        let mut primvars = Vec::new();
+        for attribute in &first.mesh.attributes {
+            let of = primvar_of(attribute).ok_or_else(|| ExportError::AttributeName {
+                path: path.to_path_buf(),
+                name: attribute.name.clone(),
+            })?;
+            for primvar in of {
+                let tuple = match primvar.type_name {
+                    "float[]" => 1,
+                    "texCoord2f[]" | "float2[]" => 2,
+                    "float4[]" => 4,
+                    _ => 3,
+                };
+                let element_size = if tuple == 1 && primvar.components > 1 {
+                    let size = i32::try_from(primvar.components).map_err(|_| ExportError::Usd {
+                        path: path.to_path_buf(),
+                        reason: format!("attribute '{}' has too many components", attribute.name),
+                    })?;
+                    Some(size)
+                } else {
+                    None
+                };
+                attributes.push(UsdAttribute {
+                    vertex: true,
+                    element_size,
+                    ..plain(
+                        &format!("primvars:{}", primvar.name),
+                        primvar.type_name,
+                        tuple,
+                    )
+                });
+                primvars.push((primvar, attribute.name.clone()));
+            }
         }
-        attributes
+        Ok(Self {
+            channels: channels(first),
+            primvars,
+            attributes,
+        })
+    }
+
+    /// The attributes, in the order [`FrameSampler::samples`] gives their samples.
+    pub fn attributes(&self) -> &[UsdAttribute] {
+        &self.attributes
     }
 
     /// One sample per attribute of `frame`, read from `path` (named in errors).

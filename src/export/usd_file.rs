@@ -61,7 +61,7 @@ impl UsdFile {
             Some(open) => open,
             None => {
                 let sampler = FrameSampler::new(frame, source)?;
-                let attributes = sampler.attributes();
+                let attributes = sampler.attributes().to_vec();
                 let writer = match self.form {
                     UsdForm::Text => Writer::Text(UsdaWriter::create(&self.path, attributes)?),
                     UsdForm::Crate => Writer::Crate(UsdcWriter::create(&self.path, attributes)?),

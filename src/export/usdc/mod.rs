@@ -8,11 +8,12 @@
 //! and the table of contents (a count, then per section a NUL-padded 16-byte name, its offset and
 //! size). Everything is little-endian, as in USD's `crateFile.cpp`.
 //!
-//! The file is version 0.8.0: every USD release since 19.11 reads it and wrote it by default until
-//! 0.9.0 became the default for time-code values, which this layer does not have. It has what
-//! this layer needs: compressed structural sections (0.4.0), compressed int arrays (0.5.0) and
-//! 64-bit array sizes (0.7.0). Float arrays are written uncompressed, which every version
-//! reads (a point cloud's floats rarely compress).
+//! The file is version 0.8.0: every USD release since 19.03 reads it, and USD wrote new files in
+//! it by default from 20.11 until 24.03, when 0.9.0 (time-code values, which this layer does not
+//! have) took over; so the DCCs and renderers in use read it. It has what this layer needs:
+//! compressed structural sections (0.4.0), compressed int arrays (0.5.0) and 64-bit array sizes
+//! (0.7.0). Float arrays are written uncompressed, which every version reads (USD compresses
+//! only float arrays of whole numbers or few distinct values, which points are not).
 
 mod int_coding;
 mod lz4;
@@ -69,16 +70,17 @@ impl UsdcWriter {
 
     /// Writes one sample per attribute at `time`.
     pub fn push(&mut self, time: f64, samples: &[Sample]) -> Result<(), ExportError> {
-        for (i, sample) in samples.iter().enumerate() {
-            let tuple = self.attributes.get(i).map_or(1, |a| a.tuple);
+        let tuples: Vec<usize> = self.attributes.iter().map(|a| a.tuple).collect();
+        let mut reps = Vec::with_capacity(samples.len());
+        for (sample, tuple) in samples.iter().zip(tuples) {
             let rep = match sample {
                 Sample::Ints(values) => self.ints(values),
                 Sample::Floats(values) => self.floats(tuple, values),
-            }
-            .map_err(|source| self.file.error("write", source))?;
-            if let Some(list) = self.samples.get_mut(i) {
-                list.push(rep);
-            }
+            };
+            reps.push(rep.map_err(|source| self.file.error("write", source))?);
+        }
+        for (list, rep) in self.samples.iter_mut().zip(reps) {
+            list.push(rep);
         }
         self.times.push(time);
         Ok(())
