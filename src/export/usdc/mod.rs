@@ -96,23 +96,34 @@ impl UsdcWriter {
     }
 
     fn close(&mut self, stage: &StageMetadata) -> io::Result<()> {
+        let mut tokens = Tokens::new();
+        let (specs, properties) = self.specs(&mut tokens, stage)?;
+        let toc = self.sections(&mut tokens, &specs, &properties)?;
+        self.header(toc)
+    }
+
+    /// Writes the values of the specs' fields (the stage metadata, the prim's property list, each
+    /// attribute's time samples) and gives the specs and the property name tokens.
+    fn specs(
+        &mut self,
+        tokens: &mut Tokens,
+        stage: &StageMetadata,
+    ) -> io::Result<(Specs, Vec<u32>)> {
         let attributes = std::mem::take(&mut self.attributes);
         let samples = std::mem::take(&mut self.samples);
-        let mut tokens = Tokens::new();
         let mut specs = Specs::default();
-        let prim = tokens.get(PRIM);
         let token =
             |tokens: &mut Tokens, name: &str| ValueRep::inlined(CrateType::Token, tokens.get(name));
 
-        let children = self.token_vector(&mut tokens, &[PRIM])?;
+        let children = self.token_vector(tokens, &[PRIM])?;
         let root = [
             (tokens.get("primChildren"), children),
-            (tokens.get("defaultPrim"), token(&mut tokens, PRIM)),
+            (tokens.get("defaultPrim"), token(tokens, PRIM)),
             (tokens.get("timeCodesPerSecond"), self.double(stage.fps)?),
             (tokens.get("framesPerSecond"), self.double(stage.fps)?),
             (tokens.get("startTimeCode"), self.double(stage.start)?),
             (tokens.get("endTimeCode"), self.double(stage.end)?),
-            (tokens.get("upAxis"), token(&mut tokens, stage.up_axis)),
+            (tokens.get("upAxis"), token(tokens, stage.up_axis)),
             (
                 tokens.get("metersPerUnit"),
                 self.double(stage.meters_per_unit)?,
@@ -123,13 +134,13 @@ impl UsdcWriter {
         let (scheme, scheme_value) = SUBDIVISION_SCHEME;
         let mut names: Vec<&str> = attributes.iter().map(|a| a.name.as_str()).collect();
         names.push(scheme);
-        let properties = self.token_vector(&mut tokens, &names)?;
+        let properties = self.token_vector(tokens, &names)?;
         let mesh = [
             (
                 tokens.get("specifier"),
                 ValueRep::inlined(CrateType::Specifier, DEF),
             ),
-            (tokens.get("typeName"), token(&mut tokens, "Mesh")),
+            (tokens.get("typeName"), token(tokens, "Mesh")),
             (tokens.get("properties"), properties),
         ];
         specs.add(1, SpecType::Prim, &mesh);
@@ -138,17 +149,14 @@ impl UsdcWriter {
         let mut path = 2;
         for (attribute, reps) in attributes.iter().zip(&samples) {
             let mut fields = vec![
-                (
-                    tokens.get("typeName"),
-                    token(&mut tokens, attribute.type_name),
-                ),
+                (tokens.get("typeName"), token(tokens, attribute.type_name)),
                 (
                     tokens.get("variability"),
                     ValueRep::inlined(CrateType::Variability, VARYING),
                 ),
             ];
             if attribute.vertex {
-                fields.push((tokens.get("interpolation"), token(&mut tokens, "vertex")));
+                fields.push((tokens.get("interpolation"), token(tokens, "vertex")));
             }
             if let Some(size) = attribute.element_size {
                 fields.push((
@@ -161,17 +169,28 @@ impl UsdcWriter {
             path += 1;
         }
         let fields = [
-            (tokens.get("typeName"), token(&mut tokens, "token")),
+            (tokens.get("typeName"), token(tokens, "token")),
             (
                 tokens.get("variability"),
                 ValueRep::inlined(CrateType::Variability, UNIFORM),
             ),
-            (tokens.get("default"), token(&mut tokens, scheme_value)),
+            (tokens.get("default"), token(tokens, scheme_value)),
         ];
         specs.add(path, SpecType::Attribute, &fields);
 
-        let property_tokens: Vec<u32> = names.iter().map(|n| tokens.get(n)).collect();
-        let paths = paths_section(prim, &property_tokens)?;
+        let properties = names.iter().map(|n| tokens.get(n)).collect();
+        Ok((specs, properties))
+    }
+
+    /// Writes the structural sections and the table of contents; gives the table's offset.
+    fn sections(
+        &mut self,
+        tokens: &mut Tokens,
+        specs: &Specs,
+        properties: &[u32],
+    ) -> io::Result<u64> {
+        let prim = tokens.get(PRIM);
+        let paths = paths_section(prim, properties)?;
         let no_strings = 0u64.to_le_bytes().to_vec();
         let mut toc = Vec::new();
         for (name, bytes) in [
@@ -195,7 +214,11 @@ impl UsdcWriter {
             table.extend(size.to_le_bytes());
         }
         self.put(&table)?;
+        Ok(toc_offset)
+    }
 
+    /// Completes the header: identifier, version and the offset of the table of contents.
+    fn header(&mut self, toc_offset: u64) -> io::Result<()> {
         let mut header = Vec::with_capacity(HEADER);
         header.extend(b"PXR-USDC");
         header.extend(VERSION);
