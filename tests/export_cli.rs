@@ -9,8 +9,8 @@ use propagate_support::{Ops, channel, ok, surftrack, write_sequence};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use surftrack::export::VELOCITY;
-use surftrack::io::{ReadOptions, read_frame_with};
-use surftrack::mesh::IndexedMesh;
+use surftrack::io::{ReadOptions, read_frame_with, write_ply};
+use surftrack::mesh::{Attribute, IndexedMesh};
 use surftrack::synth::Manifest;
 
 const FPS: f32 = 24.0;
@@ -175,34 +175,29 @@ fn ply_frames_read_back_as_the_tracked_frames_with_velocities_and_channels() {
 }
 
 #[test]
-fn outputs_are_not_overwritten_without_force_and_usdc_is_refused() {
+fn outputs_are_not_overwritten_without_force() {
     let tmp = tempfile::tempdir().unwrap();
     write_sequence(tmp.path(), 2, Ops::Refine, 5, 3);
-    let usd = tmp.path().join("out.usda");
-    std::fs::write(&usd, "keep").unwrap();
-    let error = refused(&surftrack(&[
-        "export",
-        path(tmp.path()),
-        "--usd",
-        path(&usd),
-    ]));
-    assert!(
-        error.contains("out.usda") && error.contains("--force"),
-        "{error}"
-    );
-    assert_eq!(std::fs::read_to_string(&usd).unwrap(), "keep");
-    ok(&surftrack(&[
-        "export",
-        path(tmp.path()),
-        "--usd",
-        path(&usd),
-        "--force",
-    ]));
-    assert!(
-        std::fs::read_to_string(&usd)
-            .unwrap()
-            .starts_with("#usda 1.0")
-    );
+    for (name, starts) in [("out.usda", &b"#usda 1.0"[..]), ("out.usdc", b"PXR-USDC")] {
+        let usd = tmp.path().join(name);
+        std::fs::write(&usd, "keep").unwrap();
+        let error = refused(&surftrack(&[
+            "export",
+            path(tmp.path()),
+            "--usd",
+            path(&usd),
+        ]));
+        assert!(error.contains(name) && error.contains("--force"), "{error}");
+        assert_eq!(std::fs::read_to_string(&usd).unwrap(), "keep");
+        ok(&surftrack(&[
+            "export",
+            path(tmp.path()),
+            "--usd",
+            path(&usd),
+            "--force",
+        ]));
+        assert!(std::fs::read(&usd).unwrap().starts_with(starts), "{name}");
+    }
 
     let ply = tmp.path().join("ply");
     std::fs::create_dir(&ply).unwrap();
@@ -215,18 +210,27 @@ fn outputs_are_not_overwritten_without_force_and_usdc_is_refused() {
     ]));
     assert!(error.contains("--force"), "{error}");
 
-    let usdc = tmp.path().join("out.usdc");
+    let abc = tmp.path().join("out.abc");
     let error = refused(&surftrack(&[
         "export",
         path(tmp.path()),
         "--usd",
-        path(&usdc),
+        path(&abc),
     ]));
     assert!(
-        error.contains("out.usdc") && error.contains("usdcat"),
+        error.contains("out.abc") && error.contains(".usdc"),
         "{error}"
     );
-    assert!(!usdc.exists());
+    assert!(!abc.exists());
+}
+
+/// Hidden files (a temporary output left behind) in `dir`.
+fn hidden_files(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect()
 }
 
 #[test]
@@ -246,6 +250,41 @@ fn a_propagated_folder_of_another_sequence_is_refused_naming_the_file() {
     ]));
     assert!(error.contains("frame_0001.ply"), "{error}");
     assert!(!out.exists());
+}
+
+/// A failure after frames have been streamed into the USD file leaves nothing: the file is
+/// written beside its path under a hidden name and only renamed into place when complete.
+#[test]
+fn a_failure_midway_leaves_no_usd_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (_, propagated) = tracked_with_channels(tmp.path());
+    let third = propagated.join("frame_0002.ply");
+    let mut mesh = read(&propagated, 2);
+    mesh.attributes.retain(|a| a.name != "uv");
+    write_ply(&third, &mesh).unwrap();
+    let out_dir = tmp.path().join("out");
+    std::fs::create_dir(&out_dir).unwrap();
+    for name in ["out.usda", "out.usdc"] {
+        let out = out_dir.join(name);
+        let error = refused(&surftrack(&[
+            "export",
+            path(tmp.path()),
+            "--usd",
+            path(&out),
+            "--from",
+            path(&propagated),
+        ]));
+        assert!(
+            error.contains("frame_0002.ply") && error.contains("channels differ"),
+            "{error}"
+        );
+        assert!(!out.exists(), "{name}");
+        assert!(
+            hidden_files(&out_dir).is_empty(),
+            "{:?}",
+            hidden_files(&out_dir)
+        );
+    }
 }
 
 /// Issue 23 bar 3: OBJ cannot carry ids, so tracking to OBJ is refused before anything is written,
@@ -277,9 +316,29 @@ fn track_refuses_obj_up_front() {
     assert!(!out.exists());
 }
 
-/// Issue 23 bar 1 on a small sequence: Pixar's USD opens the export and finds one time sample per
-/// frame, the PLY frames' counts, topology, positions and ids, velocities by the definition, and
-/// the carried colours and UVs. Skipped without python3 and `pxr` unless SURFTRACK_REQUIRE_USD=1.
+/// The propagated frames of `propagated` with a six-component `stress` channel added (a primvar
+/// of `float[]` with elementSize 6), written to `dir`.
+fn with_stress(propagated: &Path, dir: &Path, frames: usize) {
+    std::fs::create_dir(dir).unwrap();
+    for k in 0..frames {
+        let mut mesh = read(propagated, k);
+        let values = (0..mesh.positions.len() * 6)
+            .map(|i| (i % 97) as f32 * 0.25 + k as f32)
+            .collect();
+        mesh.attributes.push(Attribute {
+            name: "stress".into(),
+            components: 6,
+            values,
+        });
+        write_ply(&dir.join(format!("frame_{k:04}.ply")), &mesh).unwrap();
+    }
+}
+
+/// Issue 23 bar 1 on a small sequence, for both file forms: Pixar's USD opens the export and
+/// finds one time sample per frame, the PLY frames' counts, topology, positions and ids,
+/// velocities by the definition, and the carried colours and UVs; the `.usda` and the `.usdc` of
+/// the same export hold the same metadata and values. Skipped without python3 and `pxr` unless
+/// SURFTRACK_REQUIRE_USD=1.
 #[test]
 fn pixar_usd_reads_the_export() {
     let has_pxr = Command::new("python3")
@@ -297,35 +356,49 @@ fn pixar_usd_reads_the_export() {
     }
     let tmp = tempfile::tempdir().unwrap();
     let (_, propagated) = tracked_with_channels(tmp.path());
-    let (usd, ply) = (tmp.path().join("out.usda"), tmp.path().join("ply"));
-    ok(&surftrack(&[
-        "export",
-        path(tmp.path()),
-        "--usd",
-        path(&usd),
-        "--ply",
-        path(&ply),
-        "--from",
-        path(&propagated),
-        "--fps",
-        "30",
-        "--up-axis",
-        "z",
-    ]));
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/export_usd_check.py");
-    let check = Command::new("python3")
-        .args([
-            script,
-            path(&usd),
-            path(&ply),
+    let channels = tmp.path().join("channels");
+    with_stress(&propagated, &channels, 4);
+    let ply = tmp.path().join("ply");
+    let forms = ["out.usda", "out.usdc"].map(|name| tmp.path().join(name));
+    for (i, usd) in forms.iter().enumerate() {
+        let mut args = vec![
+            "export",
+            path(tmp.path()),
+            "--usd",
+            path(usd),
+            "--from",
+            path(&channels),
             "--fps",
             "30",
             "--up-axis",
-            "Z",
-        ])
-        .args(["--expect-color", "--expect-st"])
-        .output()
-        .unwrap();
-    let stdout = ok(&check);
-    assert!(stdout.contains("OK: 4 frames"), "{stdout}");
+            "z",
+        ];
+        if i == 0 {
+            args.extend(["--ply", path(&ply)]);
+        }
+        ok(&surftrack(&args));
+    }
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/export_usd_check.py");
+    for (usd, other) in [(&forms[0], &forms[1]), (&forms[1], &forms[0])] {
+        let check = Command::new("python3")
+            .args([
+                script,
+                path(usd),
+                path(&ply),
+                "--fps",
+                "30",
+                "--up-axis",
+                "Z",
+            ])
+            .args(["--expect-color", "--expect-st", "--same-as", path(other)])
+            .output()
+            .unwrap();
+        let stdout = ok(&check);
+        assert!(stdout.contains("OK: 4 frames"), "{stdout}");
+        assert!(stdout.contains("SAME: 10 attributes"), "{stdout}");
+        assert!(
+            stdout.contains("same: primvars:stress (typeName float[], variability Sdf.VariabilityVarying, interpolation vertex, elementSize 6; 4 samples)"),
+            "{stdout}"
+        );
+    }
 }

@@ -3,11 +3,14 @@
 frames `surftrack export --ply` wrote from the same sequence: one time sample per frame, per-frame
 point and face counts, topology, positions and `id` primvar equal to the PLY frames', velocities
 equal to the definition (forward difference where the id lives on, else backward, else 0) within
-1e-5 relative, and the carried channels as primvars.
+1e-5 relative, and the carried channels as primvars. With --same-as OTHER, also that OTHER (the
+same export in the other file form, .usda or .usdc) holds the same stage metadata and the same
+attributes with the same metadata and values at every time sample.
 
-usage: export_usd_check.py OUT.usda PLY_DIR [--fps 24] [--start 1] [--up-axis Y]
-                           [--expect-color] [--expect-st]
-Prints one line per frame and a summary; exits non-zero on the first failed check.
+usage: export_usd_check.py OUT.usd PLY_DIR [--fps 24] [--start 1] [--up-axis Y]
+                           [--expect-color] [--expect-st] [--same-as OTHER.usd]
+Prints one line per frame (and per compared attribute) and a summary; exits non-zero on the
+first failed check.
 """
 
 import argparse
@@ -62,6 +65,39 @@ def fail(message):
     sys.exit(1)
 
 
+def same_as(usd, other):
+    """Every stage metadatum and every authored attribute of the default prims are equal."""
+    a, b = Usd.Stage.Open(usd), Usd.Stage.Open(other)
+    if b is None:
+        fail(f"{other}: USD cannot open it")
+    for key in ["defaultPrim", "timeCodesPerSecond", "framesPerSecond", "startTimeCode", "endTimeCode", "upAxis", "metersPerUnit"]:
+        if a.GetMetadata(key) != b.GetMetadata(key):
+            fail(f"stage {key}: {a.GetMetadata(key)} in {usd}, {b.GetMetadata(key)} in {other}")
+    pa, pb = a.GetDefaultPrim(), b.GetDefaultPrim()
+    if pa.GetTypeName() != pb.GetTypeName():
+        fail(f"prim type {pa.GetTypeName()} vs {pb.GetTypeName()}")
+    names = [x.GetName() for x in pa.GetAuthoredAttributes()]
+    if names != [x.GetName() for x in pb.GetAuthoredAttributes()]:
+        fail(f"attributes {names} vs {[x.GetName() for x in pb.GetAuthoredAttributes()]}")
+    for name in names:
+        x, y = pa.GetAttribute(name), pb.GetAttribute(name)
+        described = []
+        for key in ["typeName", "variability", "interpolation", "elementSize", "custom"]:
+            if x.GetMetadata(key) != y.GetMetadata(key):
+                fail(f"{name} {key}: {x.GetMetadata(key)} vs {y.GetMetadata(key)}")
+            if x.HasAuthoredMetadata(key) and key != "custom":
+                described.append(f"{key} {x.GetMetadata(key)}")
+        times = x.GetTimeSamples()
+        if times != y.GetTimeSamples():
+            fail(f"{name}: time samples {times} vs {y.GetTimeSamples()}")
+        for t in times or [Usd.TimeCode.Default()]:
+            u, v = x.Get(t), y.Get(t)
+            if (u is None) != (v is None) or (u is not None and not np.array_equal(np.array(u), np.array(v))):
+                fail(f"{name} at {t}: the values differ")
+        print(f"same: {name} ({', '.join(described)}; {len(times)} samples)")
+    print(f"SAME: {len(names)} attributes of {usd} and {other}")
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("usd")
@@ -71,6 +107,7 @@ def main():
     parser.add_argument("--up-axis", default="Y")
     parser.add_argument("--expect-color", action="store_true")
     parser.add_argument("--expect-st", action="store_true")
+    parser.add_argument("--same-as")
     args = parser.parse_args()
 
     files = sorted(pathlib.Path(args.ply_dir).glob("frame_*.ply"))
@@ -171,6 +208,8 @@ def main():
             + (f", {' '.join(channels)} equal" if channels else "")
         )
     print(f"OK: {n} frames at {args.fps} fps from time code {times[0]}; worst relative velocity error {worst:.2e}")
+    if args.same_as:
+        same_as(args.usd, args.same_as)
 
 
 if __name__ == "__main__":

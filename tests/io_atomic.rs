@@ -2,8 +2,8 @@
 //! output directory is only written into with `force`.
 
 use std::fs;
-use std::io;
-use surftrack::io::{IoError, atomic_write, prepare_output_dir};
+use std::io::{self, Seek, SeekFrom, Write};
+use surftrack::io::{AtomicFile, IoError, atomic_write, prepare_output_dir};
 
 fn entries(dir: &std::path::Path) -> Vec<String> {
     let mut names: Vec<String> = fs::read_dir(dir)
@@ -34,6 +34,31 @@ fn a_failed_write_leaves_the_old_file_and_no_debris() {
     atomic_write(&path, |w| w.write_all(b"new")).unwrap();
     assert_eq!(fs::read(&path).unwrap(), b"new");
     assert_eq!(entries(dir.path()), ["frame_0001.obj"]);
+}
+
+/// A file written in pieces (a streamed export) is not at its path until committed, a patched
+/// header is in place, and an abandoned one leaves nothing.
+#[test]
+fn a_file_written_in_pieces_appears_only_when_committed() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out.usdc");
+    fs::write(&path, b"old").unwrap();
+
+    let mut file = AtomicFile::create(&path).unwrap();
+    file.writer().write_all(b"....body").unwrap();
+    assert_eq!(fs::read(&path).unwrap(), b"old");
+    file.writer().seek(SeekFrom::Start(0)).unwrap();
+    file.writer().write_all(b"HEAD").unwrap();
+    file.commit().unwrap();
+    assert_eq!(fs::read(&path).unwrap(), b"HEADbody");
+    assert_eq!(entries(dir.path()), ["out.usdc"]);
+
+    let mut abandoned = AtomicFile::create(&path).unwrap();
+    abandoned.writer().write_all(&[b'x'; 100_000]).unwrap();
+    assert_eq!(entries(dir.path()).len(), 2);
+    drop(abandoned);
+    assert_eq!(fs::read(&path).unwrap(), b"HEADbody");
+    assert_eq!(entries(dir.path()), ["out.usdc"]);
 }
 
 #[test]

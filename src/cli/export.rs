@@ -1,4 +1,4 @@
-//! `surftrack export TRACKED --usd OUT.usda --ply DIR`: the tracked sequence with persistent ids,
+//! `surftrack export TRACKED --usd OUT.usdc --ply DIR`: the tracked sequence with persistent ids,
 //! carried channels and velocities, in the forms renderers and DCCs read.
 
 use super::CliError;
@@ -12,7 +12,7 @@ pub struct ExportArgs {
     /// The output directory of `surftrack track` (frames/ with persistent ids).
     tracked: PathBuf,
     /// Write one USD Mesh prim sampled per frame: points, topology, extent, velocities and the
-    /// `id` primvar (.usda; .usdc is refused, see the README).
+    /// `id` primvar (.usdc or .usd: binary; .usda: text). Written frame by frame.
     #[arg(long, value_name = "FILE")]
     usd: Option<PathBuf>,
     /// Write PLY frames with `id` and velocities as `vx vy vz` into DIR.

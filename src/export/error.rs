@@ -15,12 +15,7 @@ pub enum ExportError {
     NoIds(#[from] NoIds),
     #[error("{}: exists; pass --force to replace it", path.display())]
     OutputExists { path: PathBuf },
-    #[error(
-        "{}: binary .usdc is not written: the USD crate this toolchain builds (openusd 0.6) writes crate files Pixar's USD cannot read; write .usda and convert it with `usdcat OUT.usda -o OUT.usdc`",
-        path.display()
-    )]
-    UsdcUnsupported { path: PathBuf },
-    #[error("{}: unknown USD file extension (expected .usda or .usd)", path.display())]
+    #[error("{}: unknown USD file extension (expected .usda, .usdc or .usd)", path.display())]
     UsdExtension { path: PathBuf },
     #[error("{}: cannot write USD: {reason}", path.display())]
     Usd { path: PathBuf, reason: String },

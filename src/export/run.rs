@@ -2,7 +2,8 @@
 
 use super::ExportError;
 use super::source::ExportSource;
-use super::usd::{UsdLayer, UsdSettings};
+use super::usd::UsdSettings;
+use super::usd_file::{UsdFile, UsdForm};
 use crate::apps::VelocityStream;
 use crate::io::{prepare_output_dir, write_ply};
 use crate::mesh::Attribute;
@@ -15,7 +16,7 @@ pub const VELOCITY: &str = "velocity";
 /// What to write and how.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ExportOptions {
-    /// USD file to write (`.usda`, or `.usd` holding text).
+    /// USD file to write: `.usda` text, `.usdc` or `.usd` binary.
     pub usd: Option<PathBuf>,
     /// Folder of PLY frames with velocities to write.
     pub ply: Option<PathBuf>,
@@ -39,16 +40,17 @@ pub struct ExportSummary {
 /// Exports the tracked sequence in `tracked` as `options` asks. Nothing is read before the
 /// options and outputs are checked; each file is written atomically.
 pub fn export(tracked: &Path, options: &ExportOptions) -> Result<ExportSummary, ExportError> {
-    check(options)?;
+    let form = check(options)?;
     let source = ExportSource::open(tracked, options.from.as_deref())?;
     if let Some(dir) = &options.ply {
         prepare_output_dir(dir, options.force)?;
     }
     let fps = options.settings.fps as f32;
-    let mut layer = options
+    let mut usd = options
         .usd
         .as_ref()
-        .map(|_| UsdLayer::new(options.settings));
+        .zip(form)
+        .map(|(path, form)| UsdFile::new(path, form, options.settings));
     let mut summary = ExportSummary {
         frames: 0,
         max_vertices: 0,
@@ -56,8 +58,8 @@ pub fn export(tracked: &Path, options: &ExportOptions) -> Result<ExportSummary, 
     };
     for frame in VelocityStream::new(|k| source.read(k), source.len(), fps) {
         let frame = frame?;
-        if let Some(layer) = &mut layer {
-            layer.push(&frame, &source.frame_path(frame.index))?;
+        if let Some(usd) = &mut usd {
+            usd.push(&frame, &source.frame_path(frame.index))?;
         }
         summary.frames += 1;
         summary.max_vertices = summary.max_vertices.max(frame.mesh.positions.len());
@@ -77,14 +79,15 @@ pub fn export(tracked: &Path, options: &ExportOptions) -> Result<ExportSummary, 
             write_ply(&dir.join(frame_name(frame.index)), &mesh)?;
         }
     }
-    if let (Some(layer), Some(path)) = (layer, &options.usd) {
-        layer.write_usda(path)?;
+    if let Some(usd) = usd {
+        usd.finish()?;
     }
     Ok(summary)
 }
 
-/// Refuses what cannot give a useful result before anything is read or written.
-fn check(options: &ExportOptions) -> Result<(), ExportError> {
+/// Refuses what cannot give a useful result before anything is read or written; the form of the
+/// USD file, if one is asked for.
+fn check(options: &ExportOptions) -> Result<Option<UsdForm>, ExportError> {
     let s = &options.settings;
     let positive = |what: &'static str, value: f64| {
         if value.is_finite() && value > 0.0 {
@@ -104,17 +107,12 @@ fn check(options: &ExportOptions) -> Result<(), ExportError> {
     if options.usd.is_none() && options.ply.is_none() {
         return Err(ExportError::NoOutput);
     }
-    if let Some(path) = &options.usd {
-        match path.extension().and_then(|e| e.to_str()) {
-            Some("usda" | "usd") => {}
-            Some("usdc") => {
-                return Err(ExportError::UsdcUnsupported { path: path.clone() });
-            }
-            _ => return Err(ExportError::UsdExtension { path: path.clone() }),
-        }
-        if path.exists() && !options.force {
-            return Err(ExportError::OutputExists { path: path.clone() });
-        }
+    let Some(path) = &options.usd else {
+        return Ok(None);
+    };
+    let form = UsdForm::of(path).ok_or_else(|| ExportError::UsdExtension { path: path.clone() })?;
+    if path.exists() && !options.force {
+        return Err(ExportError::OutputExists { path: path.clone() });
     }
-    Ok(())
+    Ok(Some(form))
 }

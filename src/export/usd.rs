@@ -1,15 +1,13 @@
 //! One USD `Mesh` prim sampled per frame: `points`, `faceVertexCounts`, `faceVertexIndices`,
-//! `extent`, `velocities`, the persistent `id` primvar and the carried channels' primvars.
+//! `extent`, `velocities`, the persistent `id` primvar and the carried channels' primvars. This is
+//! the layer both file forms hold ([`super::usda`], [`super::usdc`]); a frame becomes one sample
+//! of each attribute here, and the writers stream the samples out.
 
 use super::ExportError;
 use super::primvar::{Primvar, primvar_of};
 use crate::apps::VelocityFrame;
-use crate::io::atomic_write;
 use crate::mesh::Attribute;
 use glam::Vec3;
-use openusd::gf;
-use openusd::sdf::{self, ChildrenKey, FieldKey, SpecType, Specifier, Value, Variability};
-use openusd::usda::TextWriter;
 use std::path::Path;
 
 /// Name of the one prim the layer holds (its default prim).
@@ -46,56 +44,143 @@ impl Default for UsdSettings {
     }
 }
 
-type Samples = Vec<(f64, Value)>;
-
-/// The time samples of every frame pushed so far.
-#[derive(Debug, Default)]
-pub struct UsdLayer {
-    settings: UsdSettings,
-    frames: usize,
-    points: Samples,
-    counts: Samples,
-    indices: Samples,
-    extent: Samples,
-    velocities: Samples,
-    ids: Samples,
-    /// The first frame's channels `(name, components)`; every frame must carry the same.
-    channels: Vec<(String, usize)>,
-    /// Each primvar with the attribute it takes its values from.
-    primvars: Vec<(Primvar, String, Samples)>,
+/// The stage metadata of the layer (the pseudo-root's fields besides `primChildren`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StageMetadata {
+    pub fps: f64,
+    pub start: f64,
+    pub end: f64,
+    pub up_axis: &'static str,
+    pub meters_per_unit: f64,
 }
 
-impl UsdLayer {
-    pub fn new(settings: UsdSettings) -> Self {
+impl StageMetadata {
+    /// The metadata of a layer holding `frames` frames (time codes `start..=start + frames - 1`).
+    pub fn new(settings: &UsdSettings, frames: usize) -> Self {
         Self {
-            settings,
-            ..Self::default()
+            fps: settings.fps,
+            start: settings.start,
+            end: settings.start + frames.saturating_sub(1) as f64,
+            up_axis: match settings.up_axis {
+                UpAxis::Y => "Y",
+                UpAxis::Z => "Z",
+            },
+            meters_per_unit: settings.meters_per_unit,
         }
     }
+}
 
-    /// Adds one frame's samples; `path` is the file it was read from, named in errors.
-    pub fn push(&mut self, frame: &VelocityFrame, path: &Path) -> Result<(), ExportError> {
-        let mesh = &frame.mesh;
-        let time = self.settings.start + frame.index as f64;
-        let channels: Vec<(String, usize)> = mesh
-            .attributes
-            .iter()
-            .map(|a| (a.name.clone(), a.components))
-            .collect();
-        if self.frames == 0 {
-            for attribute in &mesh.attributes {
-                let primvars = primvar_of(attribute).ok_or_else(|| ExportError::AttributeName {
-                    path: path.to_path_buf(),
-                    name: attribute.name.clone(),
-                })?;
-                self.primvars.extend(
-                    primvars
-                        .into_iter()
-                        .map(|p| (p, attribute.name.clone(), Samples::new())),
-                );
+/// One time-sampled attribute of the prim.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct UsdAttribute {
+    /// Full property name (`points`, `primvars:st`).
+    pub name: String,
+    /// USD value type name (`point3f[]`, `int[]`, `texCoord2f[]`, ...).
+    pub type_name: &'static str,
+    /// Scalars per array element: 1 (`int`, `float`), 2, 3 or 4 (`float2`...`float4` and their
+    /// roles).
+    pub tuple: usize,
+    /// A primvar of `vertex` interpolation.
+    pub vertex: bool,
+    /// `elementSize` of a primvar whose vertices have several array elements.
+    pub element_size: Option<i32>,
+}
+
+/// The prim's one non-sampled attribute: a tracked surface is its triangles; the default
+/// Catmull-Clark would round it off.
+pub const SUBDIVISION_SCHEME: (&str, &str) = ("subdivisionScheme", "none");
+
+/// One attribute's value at one frame, its scalars in order (`tuple` per array element).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Sample {
+    Ints(Vec<i32>),
+    Floats(Vec<f32>),
+}
+
+/// Turns frames into samples: the attributes are fixed by the first frame's channels, and every
+/// later frame must carry the same channels.
+#[derive(Debug)]
+pub struct FrameSampler {
+    /// The first frame's channels `(name, components)`.
+    channels: Vec<(String, usize)>,
+    /// Each primvar with the attribute it takes its values from.
+    primvars: Vec<(Primvar, String)>,
+    /// The sampled attributes: the mesh's, then the primvars'.
+    attributes: Vec<UsdAttribute>,
+}
+
+impl FrameSampler {
+    /// The sampler for a sequence whose first frame is `first`, read from `path` (named in errors).
+    pub fn new(first: &VelocityFrame, path: &Path) -> Result<Self, ExportError> {
+        let plain = |name: &str, type_name, tuple| UsdAttribute {
+            name: name.into(),
+            type_name,
+            tuple,
+            vertex: false,
+            element_size: None,
+        };
+        let mut attributes = vec![
+            plain("points", "point3f[]", 3),
+            plain("faceVertexCounts", "int[]", 1),
+            plain("faceVertexIndices", "int[]", 1),
+            plain("extent", "float3[]", 3),
+            plain("velocities", "vector3f[]", 3),
+            UsdAttribute {
+                vertex: true,
+                ..plain("primvars:id", "int[]", 1)
+            },
+        ];
+        let mut primvars = Vec::new();
+        for attribute in &first.mesh.attributes {
+            let of = primvar_of(attribute).ok_or_else(|| ExportError::AttributeName {
+                path: path.to_path_buf(),
+                name: attribute.name.clone(),
+            })?;
+            for primvar in of {
+                let tuple = match primvar.type_name {
+                    "float[]" => 1,
+                    "texCoord2f[]" | "float2[]" => 2,
+                    "float4[]" => 4,
+                    _ => 3,
+                };
+                let element_size = if tuple == 1 && primvar.components > 1 {
+                    let size = i32::try_from(primvar.components).map_err(|_| ExportError::Usd {
+                        path: path.to_path_buf(),
+                        reason: format!("attribute '{}' has too many components", attribute.name),
+                    })?;
+                    Some(size)
+                } else {
+                    None
+                };
+                attributes.push(UsdAttribute {
+                    vertex: true,
+                    element_size,
+                    ..plain(
+                        &format!("primvars:{}", primvar.name),
+                        primvar.type_name,
+                        tuple,
+                    )
+                });
+                primvars.push((primvar, attribute.name.clone()));
             }
-            self.channels = channels;
-        } else if channels != self.channels {
+        }
+        Ok(Self {
+            channels: channels(first),
+            primvars,
+            attributes,
+        })
+    }
+
+    /// The attributes, in the order [`FrameSampler::samples`] gives their samples.
+    pub fn attributes(&self) -> &[UsdAttribute] {
+        &self.attributes
+    }
+
+    /// One sample per attribute of `frame`, read from `path` (named in errors).
+    pub fn samples(&self, frame: &VelocityFrame, path: &Path) -> Result<Vec<Sample>, ExportError> {
+        let mesh = &frame.mesh;
+        let found = channels(frame);
+        if found != self.channels {
             let list = |c: &[(String, usize)]| {
                 c.iter()
                     .map(|(n, k)| format!("{n} ({k})"))
@@ -105,7 +190,7 @@ impl UsdLayer {
             return Err(ExportError::ChannelsChanged {
                 path: path.to_path_buf(),
                 first: list(&self.channels),
-                found: list(&channels),
+                found: list(&found),
             });
         }
         let ids = mesh
@@ -132,146 +217,49 @@ impl UsdLayer {
             })
             .collect::<Result<Vec<i32>, _>>()?;
         let (low, high) = bounds(&mesh.positions);
-        self.points
-            .push((time, Value::Vec3fVec(vec3f(&mesh.positions))));
-        self.counts
-            .push((time, Value::IntVec(vec![3; mesh.triangles.len()])));
-        self.indices.push((time, Value::IntVec(indices)));
-        self.extent
-            .push((time, Value::Vec3fVec(vec3f(&[low, high]))));
-        self.velocities
-            .push((time, Value::Vec3fVec(vec3f(&frame.velocities))));
-        self.ids.push((time, Value::IntVec(ids)));
-        for (primvar, name, samples) in &mut self.primvars {
-            if let Some(attribute) = mesh.attributes.iter().find(|a| &a.name == name) {
-                samples.push((time, primvar_value(primvar, attribute)));
-            }
-        }
-        self.frames += 1;
-        Ok(())
-    }
-
-    /// Writes the layer as USD text, atomically.
-    pub fn write_usda(self, path: &Path) -> Result<(), ExportError> {
-        let data = self.into_data().map_err(|reason| ExportError::Usd {
-            path: path.to_path_buf(),
-            reason,
-        })?;
-        atomic_write(path, |mut w| {
-            TextWriter::write(&data, &mut w).map_err(|e| std::io::Error::other(e.to_string()))
-        })?;
-        Ok(())
-    }
-
-    /// The layer's specs: the pseudo-root with the stage metadata, the mesh prim, its attributes.
-    fn into_data(self) -> Result<sdf::Data, String> {
-        let s = self.settings;
-        let mut data = sdf::Data::new();
-        let root = data.create_spec(sdf::Path::abs_root(), SpecType::PseudoRoot);
-        root.add(
-            ChildrenKey::PrimChildren,
-            Value::TokenVec(vec![PRIM.into()]),
-        );
-        root.add(FieldKey::DefaultPrim, Value::Token(PRIM.into()));
-        root.add(FieldKey::TimeCodesPerSecond, Value::Double(s.fps));
-        root.add(FieldKey::FramesPerSecond, Value::Double(s.fps));
-        root.add(FieldKey::StartTimeCode, Value::Double(s.start));
-        let last = s.start + self.frames.saturating_sub(1) as f64;
-        root.add(FieldKey::EndTimeCode, Value::Double(last));
-        let axis = match s.up_axis {
-            UpAxis::Y => "Y",
-            UpAxis::Z => "Z",
-        };
-        root.add("upAxis", Value::Token(axis.into()));
-        root.add("metersPerUnit", Value::Double(s.meters_per_unit));
-
-        let prim = sdf::path(format!("/{PRIM}")).map_err(|e| e.to_string())?;
-        let mut attributes: Vec<(String, &str, Option<usize>, Samples)> = vec![
-            ("points".into(), "point3f[]", None, self.points),
-            ("faceVertexCounts".into(), "int[]", None, self.counts),
-            ("faceVertexIndices".into(), "int[]", None, self.indices),
-            ("extent".into(), "float3[]", None, self.extent),
-            ("velocities".into(), "vector3f[]", None, self.velocities),
-            ("primvars:id".into(), "int[]", Some(1), self.ids),
+        let mut samples = vec![
+            Sample::Floats(scalars(&mesh.positions)),
+            Sample::Ints(vec![3; mesh.triangles.len()]),
+            Sample::Ints(indices),
+            Sample::Floats(scalars(&[low, high])),
+            Sample::Floats(scalars(&frame.velocities)),
+            Sample::Ints(ids),
         ];
-        for (primvar, _, samples) in self.primvars {
-            attributes.push((
-                format!("primvars:{}", primvar.name),
-                primvar.type_name,
-                Some(primvar.components),
-                samples,
-            ));
+        for (primvar, name) in &self.primvars {
+            let values = mesh
+                .attributes
+                .iter()
+                .find(|a| &a.name == name)
+                .map(|attribute| primvar_values(primvar, attribute))
+                .unwrap_or_default();
+            samples.push(Sample::Floats(values));
         }
-        let mut names: Vec<String> = attributes.iter().map(|(n, ..)| n.clone()).collect();
-        names.push("subdivisionScheme".into());
-        let spec = data.create_spec(prim.clone(), SpecType::Prim);
-        spec.add(FieldKey::Specifier, Value::Specifier(Specifier::Def));
-        spec.add(FieldKey::TypeName, Value::Token("Mesh".into()));
-        spec.add(
-            ChildrenKey::PropertyChildren,
-            Value::TokenVec(names.into_iter().map(Into::into).collect()),
-        );
-        for (name, type_name, vertex, samples) in attributes {
-            let path = prim
-                .append_property(name.as_str())
-                .map_err(|e| e.to_string())?;
-            let spec = data.create_spec(path, SpecType::Attribute);
-            spec.add(FieldKey::TypeName, Value::Token(type_name.into()));
-            spec.add(FieldKey::Custom, Value::Bool(false));
-            spec.add(
-                FieldKey::Variability,
-                Value::Variability(Variability::Varying),
-            );
-            if let Some(components) = vertex {
-                spec.add("interpolation", Value::Token("vertex".into()));
-                if components > 4 || (components > 1 && type_name == "float[]") {
-                    let size = i32::try_from(components).map_err(|e| e.to_string())?;
-                    spec.add("elementSize", Value::Int(size));
-                }
-            }
-            spec.add(FieldKey::TimeSamples, Value::TimeSamples(samples));
-        }
-        // A tracked surface is its triangles; the default Catmull-Clark would round it off.
-        let path = prim
-            .append_property("subdivisionScheme")
-            .map_err(|e| e.to_string())?;
-        let scheme = data.create_spec(path, SpecType::Attribute);
-        scheme.add(FieldKey::TypeName, Value::Token("token".into()));
-        scheme.add(
-            FieldKey::Variability,
-            Value::Variability(Variability::Uniform),
-        );
-        scheme.add(FieldKey::Default, Value::Token("none".into()));
-        Ok(data)
+        Ok(samples)
     }
 }
 
-/// The samples of `primvar` from its attribute's values.
-fn primvar_value(primvar: &Primvar, attribute: &Attribute) -> Value {
-    let k = attribute.components;
+/// The `(name, components)` of a frame's channels.
+fn channels(frame: &VelocityFrame) -> Vec<(String, usize)> {
+    frame
+        .mesh
+        .attributes
+        .iter()
+        .map(|a| (a.name.clone(), a.components))
+        .collect()
+}
+
+/// The scalars of `primvar` from its attribute's values, vertex by vertex.
+fn primvar_values(primvar: &Primvar, attribute: &Attribute) -> Vec<f32> {
     let columns = primvar.first..primvar.first + primvar.components;
-    let per_vertex = attribute
+    attribute
         .values
-        .chunks_exact(k)
-        .map(|v| &v[columns.clone()]);
-    match primvar.type_name {
-        "color3f[]" | "float3[]" => {
-            Value::Vec3fVec(per_vertex.map(|v| gf::vec3f(v[0], v[1], v[2])).collect())
-        }
-        "texCoord2f[]" | "float2[]" => {
-            Value::Vec2fVec(per_vertex.map(|v| gf::vec2f(v[0], v[1])).collect())
-        }
-        "float4[]" => Value::Vec4fVec(
-            per_vertex
-                .map(|v| gf::vec4f(v[0], v[1], v[2], v[3]))
-                .collect(),
-        ),
-        _ => Value::FloatVec(per_vertex.flatten().copied().collect()),
-    }
+        .chunks_exact(attribute.components)
+        .flat_map(|v| v[columns.clone()].iter().copied())
+        .collect()
 }
 
-fn vec3f(points: &[Vec3]) -> Vec<gf::Vec3f> {
-    points.iter().map(|p| gf::vec3f(p.x, p.y, p.z)).collect()
+fn scalars(points: &[Vec3]) -> Vec<f32> {
+    points.iter().flat_map(|p| p.to_array()).collect()
 }
 
 /// Lowest and highest corner of the points' box (both 0 for no points).

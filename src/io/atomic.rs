@@ -18,40 +18,98 @@ pub fn atomic_write<F>(path: &Path, write: F) -> Result<(), IoError>
 where
     F: FnOnce(&mut dyn Write) -> io::Result<()>,
 {
-    let temporary = temporary_path(path);
-    let result = write_then_rename(path, &temporary, write);
-    if result.is_err() {
-        // The temporary file may not exist (creation failed); nothing else to do then.
-        let _ = fs::remove_file(&temporary);
-    }
-    result
+    let mut file = AtomicFile::create(path)?;
+    write(file.writer()).map_err(|source| file.error("write", source))?;
+    file.commit()
 }
 
-fn write_then_rename<F>(path: &Path, temporary: &Path, write: F) -> Result<(), IoError>
-where
-    F: FnOnce(&mut dyn Write) -> io::Result<()>,
-{
-    let failed = |action: &'static str| {
-        move |source: io::Error| IoError::Io {
+/// A file written in pieces (a stream of frames, a header patched at the end) that appears at its
+/// path only when complete: it is a hidden temporary file beside the path until
+/// [`AtomicFile::commit`] renames it into place; dropped before that, it is removed and the path is
+/// untouched.
+#[derive(Debug)]
+pub struct AtomicFile {
+    path: PathBuf,
+    writer: BufWriter<File>,
+    temporary: Temporary,
+}
+
+/// Removes the temporary file when dropped, unless it has been renamed into place.
+#[derive(Debug)]
+struct Temporary {
+    path: PathBuf,
+    renamed: bool,
+}
+
+impl Drop for Temporary {
+    fn drop(&mut self) {
+        if !self.renamed {
+            // The file was created before this guard; if it is already gone there is nothing to do.
+            let _ = fs::remove_file(&self.path);
+        }
+    }
+}
+
+impl AtomicFile {
+    pub fn create(path: &Path) -> Result<Self, IoError> {
+        let temporary = temporary_path(path);
+        let file = OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&temporary)
+            .map_err(|source| IoError::Io {
+                path: path.to_path_buf(),
+                action: "create a temporary file beside it",
+                source,
+            })?;
+        Ok(Self {
             path: path.to_path_buf(),
+            writer: BufWriter::new(file),
+            temporary: Temporary {
+                path: temporary,
+                renamed: false,
+            },
+        })
+    }
+
+    /// The buffered temporary file; it can seek back (to patch a header).
+    pub fn writer(&mut self) -> &mut BufWriter<File> {
+        &mut self.writer
+    }
+
+    /// An error about the final path.
+    pub fn error(&self, action: &'static str, source: io::Error) -> IoError {
+        IoError::Io {
+            path: self.path.clone(),
             action,
             source,
         }
-    };
-    let file = OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(temporary)
-        .map_err(failed("create a temporary file beside it"))?;
-    let mut writer = BufWriter::new(file);
-    write(&mut writer).map_err(failed("write"))?;
-    let file: File = writer
-        .into_inner()
-        .map_err(|e| e.into_error())
-        .map_err(failed("write"))?;
-    file.sync_all().map_err(failed("flush to disk"))?;
-    drop(file);
-    fs::rename(temporary, path).map_err(failed("rename the temporary file onto it"))
+    }
+
+    /// Flushes the data to disk and renames the temporary file over the path.
+    pub fn commit(self) -> Result<(), IoError> {
+        let Self {
+            path,
+            writer,
+            mut temporary,
+        } = self;
+        let failed = |action: &'static str| {
+            let path = path.clone();
+            move |source: io::Error| IoError::Io {
+                path,
+                action,
+                source,
+            }
+        };
+        let file = writer
+            .into_inner()
+            .map_err(|e| failed("write")(e.into_error()))?;
+        file.sync_all().map_err(failed("flush to disk"))?;
+        drop(file);
+        fs::rename(&temporary.path, &path).map_err(failed("rename the temporary file onto it"))?;
+        temporary.renamed = true;
+        Ok(())
+    }
 }
 
 /// `dir/.name.<pid>.<n>.tmp`: hidden, unique within the process and across processes.
