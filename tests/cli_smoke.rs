@@ -83,10 +83,11 @@ fn bench_times_two_frames_of_a_given_sequence() {
         .lines()
         .find(|l| l.contains("cpu"))
         .unwrap_or_else(|| panic!("no CPU row in:\n{stdout}"));
+    // The last time column is the frame's total.
     let total = row
         .split_whitespace()
-        .last()
-        .and_then(|t| t.strip_suffix("ms"))
+        .filter_map(|t| t.strip_suffix("ms"))
+        .next_back()
         .and_then(|t| t.parse::<f64>().ok());
     assert!(total.is_some_and(|t| t > 0.0), "{row}");
 }
@@ -143,6 +144,26 @@ fn bench_json_gives_the_stage_figures_of_every_run() {
         report["peak_memory_mib"].as_f64().is_some_and(|m| m > 0.0),
         "{stdout}"
     );
+    // The CPU path spends part of each frame in the stages the GPU path runs as kernels, and
+    // moves nothing to a device; the GPU path moves bytes both ways.
+    assert!(
+        cpu["gpu_share"]
+            .as_f64()
+            .is_some_and(|s| s > 0.0 && s < 1.0),
+        "{cpu}"
+    );
+    assert!(cpu["bytes_per_frame"].is_null(), "{cpu}");
+    let gpu = report["runs"].as_array().and_then(|runs| {
+        runs.iter()
+            .find(|r| r["backend"].as_str().is_some_and(|b| b.starts_with("gpu")))
+    });
+    if let Some(gpu) = gpu {
+        let moved = gpu["bytes_per_frame"].as_array();
+        assert!(
+            moved.is_some_and(|m| m.iter().all(|b| b.as_u64().is_some_and(|b| b > 0))),
+            "{gpu}"
+        );
+    }
 }
 
 #[test]

@@ -8,10 +8,11 @@ use super::CliError;
 use clap::Args;
 use serde::Serialize;
 use std::path::PathBuf;
-use surftrack::compute::{Backend, BackendChoice};
+use std::time::Duration;
+use surftrack::compute::{Backend, BackendChoice, kernel_time};
 use surftrack::io::{discover_sequence, read_frame};
 use surftrack::mesh::IndexedMesh;
-use surftrack::sequence::{FrameSource, track_sequence};
+use surftrack::sequence::{FrameSource, Progress, track_sequence};
 use surftrack::synth::{Scene, SynthOptions, generate};
 use surftrack::track::{StageTimes, TrackOptions};
 
@@ -55,6 +56,12 @@ struct Row {
     vertices: usize,
     backend: String,
     frames_timed: usize,
+    /// Share of the frame's time spent in the stages the GPU path runs as kernels (projection,
+    /// closest points, triangle bounds, rasterization, sweeps, narrow-band distance), on this
+    /// backend (see `compute::kernel_time`). On the CPU path: the most of a frame a GPU can speed up.
+    gpu_share: f64,
+    /// Bytes uploaded to and read back from the device per timed frame (GPU path only).
+    bytes_per_frame: Option<[u64; 2]>,
     ms_per_frame: StageTimes,
 }
 
@@ -89,7 +96,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     };
     if !args.json {
         println!(
-            "{:<10} {:>8} {:<28} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}",
+            "{:<10} {:>8} {:<28} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>12}",
             "sequence",
             "verts",
             "backend",
@@ -99,7 +106,9 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             "topo T",
             "reconcile",
             "residual",
-            "total"
+            "total",
+            "gpu share",
+            "MB up/down"
         );
     }
     let print = |row: &Row| {
@@ -167,13 +176,23 @@ fn time(
     };
     let mut rows = Vec::new();
     for backend in backends {
+        // The counters as the first (untimed) frame completes.
+        let mut at_first = (Duration::ZERO, [0u64; 2]);
         let report = track_sequence::<()>(
             FrameSource::Meshes(frames),
             backend,
             &TrackOptions::default(),
             None,
-            |_| {},
+            |progress| {
+                if let Progress::Frame { log, .. } = progress
+                    && log.frame == 0
+                {
+                    at_first = (kernel_time::total(), transferred(backend));
+                }
+            },
         )?;
+        let kernels = (kernel_time::total() - at_first.0).as_secs_f64() * 1e3;
+        let moved = transferred(backend);
         let mut sum = StageTimes::default();
         for log in report.frames.iter().skip(1) {
             let t = &log.times;
@@ -192,6 +211,13 @@ fn time(
             vertices: first.positions.len(),
             backend: backend.to_string(),
             frames_timed: timed,
+            gpu_share: kernels / sum.total.max(f64::MIN_POSITIVE),
+            bytes_per_frame: match backend {
+                Backend::Cpu => None,
+                Backend::Gpu(_) => {
+                    Some([0, 1].map(|i| (moved[i] - at_first.1[i]) / timed.max(1) as u64))
+                }
+            },
             ms_per_frame: StageTimes {
                 register: sum.register / n,
                 improve: sum.improve / n,
@@ -210,8 +236,11 @@ fn time(
 
 fn print_row(row: &Row) {
     let t = &row.ms_per_frame;
+    let moved = row.bytes_per_frame.map_or("-".to_string(), |[up, down]| {
+        format!("{:.1}/{:.1}", up as f64 / 1e6, down as f64 / 1e6)
+    });
     println!(
-        "{:<10} {:>8} {:<28} {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms",
+        "{:<10} {:>8} {:<28} {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>7.0}ms {:>9.2} {:>12}",
         row.sequence,
         row.vertices,
         row.backend,
@@ -221,8 +250,18 @@ fn print_row(row: &Row) {
         t.topology_target,
         t.reconcile,
         t.residual,
-        t.total
+        t.total,
+        row.gpu_share,
+        moved
     );
+}
+
+/// Bytes moved host → device and back so far on `backend` (none on the CPU).
+fn transferred(backend: &Backend) -> [u64; 2] {
+    match backend {
+        Backend::Cpu => [0, 0],
+        Backend::Gpu(context) => context.transferred(),
+    }
 }
 
 /// Peak resident set size of this process, from `/proc/self/status` (Linux).

@@ -1,6 +1,7 @@
 use std::borrow::Cow;
 use std::collections::HashMap;
 use std::fmt;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Mutex, mpsc};
 
 use bytemuck::Pod;
@@ -28,6 +29,9 @@ pub struct GpuContext {
     queue: wgpu::Queue,
     limits: wgpu::Limits,
     pipelines: Mutex<HashMap<&'static str, Compiled>>,
+    /// Bytes uploaded to and read back from the device so far (see [`GpuContext::transferred`]).
+    uploaded: AtomicU64,
+    read_back: AtomicU64,
 }
 
 impl fmt::Debug for GpuContext {
@@ -64,6 +68,8 @@ impl GpuContext {
             queue,
             limits,
             pipelines: Mutex::new(HashMap::new()),
+            uploaded: AtomicU64::new(0),
+            read_back: AtomicU64::new(0),
         })
     }
 
@@ -77,6 +83,15 @@ impl GpuContext {
 
     pub fn queue(&self) -> &wgpu::Queue {
         &self.queue
+    }
+
+    /// Bytes moved host → device and device → host through this context so far: every upload and
+    /// read-back (buffers a kernel writes and another reads stay on the device and are not counted).
+    pub fn transferred(&self) -> [u64; 2] {
+        [
+            self.uploaded.load(Ordering::Relaxed),
+            self.read_back.load(Ordering::Relaxed),
+        ]
     }
 
     pub fn limits(&self) -> &wgpu::Limits {
@@ -98,6 +113,8 @@ impl GpuContext {
     ) -> Result<wgpu::Buffer, ComputeError> {
         let contents: &[u8] = bytemuck::cast_slice(data);
         self.check_size(label, contents.len() as u64)?;
+        self.uploaded
+            .fetch_add(contents.len() as u64, Ordering::Relaxed);
         self.scoped(|| {
             self.device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -138,6 +155,7 @@ impl GpuContext {
         if bytes == 0 {
             return Ok(Vec::new());
         }
+        self.read_back.fetch_add(bytes, Ordering::Relaxed);
         if padded(bytes) > buffer.size() {
             return Err(ComputeError::Gpu(format!(
                 "read_back of {bytes} bytes from a buffer of {} bytes",

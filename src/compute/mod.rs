@@ -11,6 +11,7 @@ mod context;
 mod dispatch;
 mod error;
 mod kernel;
+pub mod kernel_time;
 pub mod parity;
 
 pub use backend::{Backend, BackendChoice};

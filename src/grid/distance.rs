@@ -18,7 +18,7 @@ use super::lattice::LatticeMesh;
 use super::sparse::GridLine;
 use super::sweep::Windings;
 use super::triangle_tree::TriangleTree;
-use crate::compute::Backend;
+use crate::compute::{Backend, kernel_time};
 use crate::kernels::shared::{BandChunk, BandTile, Nearest};
 
 /// Signed distances at every corner within `half_width` cells of the surface.
@@ -93,18 +93,20 @@ pub fn signed_distance(
     }
     let rows = dilated_corners(footprint, half_width);
     let bound = half_width * half_width;
-    let nearest = match backend {
-        Backend::Cpu => {
-            let (chunks, tiles) = tiles(&rows, CPU_CHUNK_LEN)?;
-            distance_tiled(&tree, &chunks, &tiles, bound)
-        }
-        Backend::Gpu(context) => {
-            let chunks = chunks(&rows, GPU_CHUNK_LEN)?;
-            let job = GpuDistance::upload(context, &tree, &chunks, bound)?;
-            job.dispatch(context)?;
-            job.read(context)?
-        }
-    };
+    let nearest = kernel_time::timed(|| -> Result<_, RasterError> {
+        Ok(match backend {
+            Backend::Cpu => {
+                let (chunks, tiles) = tiles(&rows, CPU_CHUNK_LEN)?;
+                distance_tiled(&tree, &chunks, &tiles, bound)
+            }
+            Backend::Gpu(context) => {
+                let chunks = chunks(&rows, GPU_CHUNK_LEN)?;
+                let job = GpuDistance::upload(context, &tree, &chunks, bound)?;
+                job.dispatch(context)?;
+                job.read(context)?
+            }
+        })
+    })?;
     Ok(sign_and_keep(
         mesh, &tree, &rows, &nearest, windings, half_width,
     ))

@@ -12,15 +12,15 @@ use super::cpu::rasterize::rasterize_cpu;
 use super::gpu::GpuRasterize;
 use super::lattice::LatticeMesh;
 use super::sparse::Crossings;
-use crate::compute::Backend;
+use crate::compute::{Backend, kernel_time};
 
 /// Every grid-edge crossing of `mesh`, grouped by grid line.
 ///
 /// Fails only when the GPU backend cannot run the kernel.
 pub fn rasterize(backend: &Backend, mesh: &LatticeMesh) -> Result<Crossings, RasterError> {
-    let crossings = match backend {
-        Backend::Cpu => rasterize_cpu(mesh),
-        Backend::Gpu(context) => GpuRasterize::run(context, mesh)?,
-    };
+    let crossings = kernel_time::timed(|| match backend {
+        Backend::Cpu => Ok(rasterize_cpu(mesh)),
+        Backend::Gpu(context) => GpuRasterize::run(context, mesh),
+    })?;
     Ok(Crossings::from_unsorted(crossings))
 }

@@ -21,17 +21,17 @@ use super::RasterError;
 use super::cpu::sweep::sweep_cpu;
 use super::gpu::GpuSweep;
 use super::sparse::{Crossings, GridLine, LineIndex};
-use crate::compute::Backend;
+use crate::compute::{Backend, kernel_time};
 use crate::kernels::shared::WindingRun;
 
 /// Sweeps every line of `crossings` into winding runs.
 ///
 /// Fails only when the GPU backend cannot run the kernel.
 pub fn sweep(backend: &Backend, crossings: &Crossings) -> Result<Windings, RasterError> {
-    let slots = match backend {
-        Backend::Cpu => sweep_cpu(crossings),
-        Backend::Gpu(context) => GpuSweep::run(context, crossings)?,
-    };
+    let slots = kernel_time::timed(|| match backend {
+        Backend::Cpu => Ok(sweep_cpu(crossings)),
+        Backend::Gpu(context) => GpuSweep::run(context, crossings),
+    })?;
     Ok(Windings::from_slots(crossings.index(), &slots))
 }
 

@@ -11,7 +11,7 @@ use super::gpu::GpuQueries;
 use super::options::absolute_distance;
 use super::order::SpatialOrder;
 use super::{Bvh, ProjectError, ProjectOptions};
-use crate::compute::Backend;
+use crate::compute::{Backend, kernel_time};
 use crate::kernels::shared::{Correspondence, QueryParams};
 
 /// Projects each source point along its normal onto the target (paper §4.2): casts the line
@@ -31,7 +31,7 @@ pub fn project(
     normals: &[Vec3],
     options: &ProjectOptions,
 ) -> Result<Vec<Correspondence>, ProjectError> {
-    match backend {
+    kernel_time::timed(|| match backend {
         Backend::Cpu => {
             let params = options.params(bvh.mean_edge_length())?;
             let directions = directions(points, normals)?;
@@ -49,7 +49,7 @@ pub fn project(
             job.dispatch(context, &bvh.on_gpu(context)?)?;
             Ok(job.read(context)?)
         }
-    }
+    })
 }
 
 /// The nearest target surface point of each point, with `distance` = |p − point| signed by the
@@ -63,19 +63,21 @@ pub fn closest_points(
     points: &[Vec3],
     max_distance: f32,
 ) -> Result<Vec<Correspondence>, ProjectError> {
-    let mut found = match backend {
-        Backend::Cpu => {
-            let params =
-                QueryParams::closest(absolute_distance(max_distance, bvh.mean_edge_length())?);
-            let order = SpatialOrder::new(points);
-            order.restore(&closest_point_cpu(bvh, &order.permute(points), &params))
-        }
-        Backend::Gpu(context) => {
-            let job = GpuQueries::closest_points(context, bvh, points, max_distance)?;
-            job.dispatch(context, &bvh.on_gpu(context)?)?;
-            job.read(context)?
-        }
-    };
+    let mut found = kernel_time::timed(|| -> Result<_, ProjectError> {
+        Ok(match backend {
+            Backend::Cpu => {
+                let params =
+                    QueryParams::closest(absolute_distance(max_distance, bvh.mean_edge_length())?);
+                let order = SpatialOrder::new(points);
+                order.restore(&closest_point_cpu(bvh, &order.permute(points), &params))
+            }
+            Backend::Gpu(context) => {
+                let job = GpuQueries::closest_points(context, bvh, points, max_distance)?;
+                job.dispatch(context, &bvh.on_gpu(context)?)?;
+                job.read(context)?
+            }
+        })
+    })?;
     // WGSL gives no guarantee about NaN and infinity, so misses for unusable points are set here,
     // for both backends alike.
     found

@@ -9,7 +9,7 @@ use glam::Vec3;
 use super::cpu::triangle_bounds::triangle_bounds_cpu;
 use super::gpu::GpuTriangleBounds;
 use super::indices::check_indices;
-use crate::compute::{Backend, ComputeError};
+use crate::compute::{Backend, ComputeError, kernel_time};
 use crate::kernels::shared::Aabb;
 
 /// The bounding box of every triangle, in triangle order.
@@ -21,7 +21,7 @@ pub fn triangle_bounds(
     positions: &[Vec3],
     triangles: &[[u32; 3]],
 ) -> Result<Vec<Aabb>, ComputeError> {
-    match backend {
+    kernel_time::timed(|| match backend {
         Backend::Cpu => {
             check_indices(positions.len(), triangles)?;
             Ok(triangle_bounds_cpu(positions, triangles))
@@ -32,5 +32,5 @@ pub fn triangle_bounds(
             job.dispatch(context)?;
             job.read(context)
         }
-    }
+    })
 }
