@@ -8,6 +8,7 @@ pub mod compute;
 pub mod eval;
 pub mod events;
 pub mod export;
+pub mod fuzz;
 pub mod geometry;
 pub mod grid;
 pub mod improve;

@@ -1,7 +1,8 @@
 //! Absurd counts in headers (i32::MAX vertices, billions of faces) are checked against the bytes
 //! that remain: the read fails fast and no allocation grows beyond the size of the file.
 //!
-//! A counting allocator records the largest single allocation, so this binary holds one test.
+//! A counting allocator records the largest single allocation; each test resets and reads it, so
+//! the tests of this binary run one at a time (`LOCK`).
 
 use flate2::Compression;
 use flate2::write::GzEncoder;
@@ -13,6 +14,9 @@ use surftrack::io::{IoError, read_frame};
 struct Largest;
 
 static LARGEST: AtomicUsize = AtomicUsize::new(0);
+
+/// Held by each test while it measures.
+static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 unsafe impl GlobalAlloc for Largest {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
@@ -60,6 +64,7 @@ fn ply(format: &str, vertices: &str, faces: &str, body: &[u8]) -> Vec<u8> {
 
 #[test]
 fn absurd_counts_fail_without_large_allocations() {
+    let _measuring = LOCK.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
     let dir = tempfile::tempdir().unwrap();
     let tetra_vertices: Vec<u8> = [0f32, 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1.]
         .iter()
@@ -67,10 +72,18 @@ fn absurd_counts_fail_without_large_allocations() {
         .collect();
     let mut list_too_long = tetra_vertices.clone();
     list_too_long.extend_from_slice(&[255, 0, 0, 0, 0]);
-    let cases: Vec<(&str, Vec<u8>)> = vec![
+    let mut cases: Vec<(&str, Vec<u8>)> = vec![
         ("vertices.bobj.gz", bobj([i32::MAX, 0, 0], 64)),
         ("normals.bobj.gz", bobj([0, i32::MAX, 0], 0)),
         ("triangles.bobj.gz", bobj([0, 0, i32::MAX], 0)),
+        (
+            "two_to_the_31.ply",
+            ply("binary_little_endian", "2147483648", "0", &tetra_vertices),
+        ),
+        (
+            "two_to_the_31_ascii.ply",
+            ply("ascii", "2147483648", "0", b"0 0 0\n"),
+        ),
         (
             "vertices.ply",
             ply("binary_little_endian", "4294967295", "0", &tetra_vertices),
@@ -96,6 +109,10 @@ fn absurd_counts_fail_without_large_allocations() {
             ply("ascii", "3", "1", b"0 0 0\n1 0 0\n0 1 0\n200 0 1 2\n"),
         ),
     ];
+    // Deflate expands up to 1032:1: 64 MiB of zeros after valid empty counts is a 64 KiB file.
+    let mut bomb = vec![0u8; 12];
+    bomb.resize(64 << 20, 0);
+    cases.push(("bomb.bobj.gz", gzip(&bomb)));
     for (name, bytes) in &cases {
         let path = dir.path().join(name);
         std::fs::write(&path, bytes).unwrap();
@@ -111,4 +128,32 @@ fn absurd_counts_fail_without_large_allocations() {
             "{name}: allocated {largest} bytes at once"
         );
     }
+}
+
+/// An event file whose events all name the whole id table (every range valid on its own) would
+/// decode to a list far larger than the file: the ranges must follow each other instead.
+#[test]
+fn overlapping_event_ranges_are_refused_before_they_multiply() {
+    let _measuring = LOCK.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    use surftrack::events::file::{EventFileError, decode};
+    let (events, ids) = (1000u32, 1000u32);
+    let mut bytes = b"SURFEVT\0".to_vec();
+    for v in [1, events, ids, 0, 0, 0] {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    for _ in 0..events {
+        for v in [0u32, 0, ids, ids, 0, 0, 0, 0, 0] {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    bytes.extend((0..u64::from(ids)).flat_map(|id| id.to_le_bytes()));
+    let crc = crc32fast::hash(&bytes);
+    bytes.extend_from_slice(&crc.to_le_bytes());
+    LARGEST.store(0, Ordering::Relaxed);
+    let result = decode(&bytes);
+    assert!(
+        matches!(result, Err(EventFileError::Order { event: 1, .. })),
+        "{result:?}"
+    );
+    assert!(LARGEST.load(Ordering::Relaxed) < 2 * bytes.len());
 }

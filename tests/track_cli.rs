@@ -163,7 +163,8 @@ fn resume_reads_the_last_frame_without_welding() {
         serde_json::from_str(&std::fs::read_to_string(&state_path).unwrap()).unwrap();
     state["completed"] = 2.into();
     state["frames"].as_array_mut().unwrap().truncate(2);
-    std::fs::write(&state_path, state.to_string()).unwrap();
+    state["written"].as_array_mut().unwrap().truncate(2);
+    state["next_id"] = state["written"][1]["next_id"].clone();
     std::fs::remove_file(out.join("frames/frame_0002.ply")).unwrap();
     std::fs::remove_file(out.join("events/0002.events")).unwrap();
     let last = out.join("frames/frame_0001.ply");
@@ -191,6 +192,9 @@ fn resume_reads_the_last_frame_without_welding() {
         .unwrap();
     mesh.positions[v as usize] = mesh.positions[w as usize];
     write_ply(&last, &mesh).unwrap();
+    // As if the run had written this frame: its size is the one recorded.
+    state["written"][1]["frame_bytes"] = std::fs::metadata(&last).unwrap().len().into();
+    std::fs::write(&state_path, state.to_string()).unwrap();
 
     let resumed = track(&input, &out, &["--resume"]).output().unwrap();
     assert!(

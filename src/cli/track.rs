@@ -216,7 +216,8 @@ pub fn run(args: &TrackArgs) -> Result<(), CliError> {
                 bar.set_position(done as u64);
                 bar.set_message(format!("frame {k}: tracking"));
             }
-            Progress::Warning(message) => bar.println(message),
+            // Warnings are shown with --quiet too (a hidden bar would swallow its println).
+            Progress::Warning(message) => bar.suspend(|| eprintln!("{message}")),
             Progress::Frame { log, .. } => {
                 if !args.quiet {
                     bar.suspend(|| println!("{}", log_line(log)));

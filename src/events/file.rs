@@ -44,6 +44,23 @@ pub enum EventFileError {
     },
     #[error("event {event}: unknown kind {kind}")]
     Kind { event: usize, kind: u32 },
+    #[error(
+        "event {event}: {what} range starts at {start}, where the previous one ended at {expected}"
+    )]
+    Order {
+        event: usize,
+        what: &'static str,
+        start: usize,
+        expected: usize,
+    },
+    #[error("{what} table: {used} of its {len} entries belong to an event")]
+    Unused {
+        what: &'static str,
+        used: usize,
+        len: usize,
+    },
+    #[error("reserved field at byte {0} is not zero")]
+    Reserved(usize),
 }
 
 fn kind_code(kind: EventKind) -> u32 {
@@ -142,6 +159,38 @@ pub fn encode(list: &EventList) -> Vec<u8> {
     out
 }
 
+/// The range `start..start + count` of a table of `len` entries, which must begin where the
+/// previous range of that table ended (`used`), and then ends there.
+fn take(
+    event: usize,
+    what: &'static str,
+    start: u32,
+    count: u32,
+    len: usize,
+    used: &mut usize,
+) -> Result<std::ops::Range<usize>, EventFileError> {
+    let (start, count) = (start as usize, count as usize);
+    if start != *used {
+        return Err(EventFileError::Order {
+            event,
+            what,
+            start,
+            expected: *used,
+        });
+    }
+    if start.checked_add(count).is_none_or(|end| end > len) {
+        return Err(EventFileError::Range {
+            event,
+            what,
+            start,
+            count,
+            len,
+        });
+    }
+    *used = start + count;
+    Ok(start..start + count)
+}
+
 /// Little-endian cursor over a byte slice whose length was checked up front.
 struct Reader<'a> {
     bytes: &'a [u8],
@@ -172,6 +221,11 @@ impl Reader<'_> {
 }
 
 /// Parses and checks an event-list file: magic, version, sizes, checksum, and every index range.
+///
+/// The ranges must tile their tables in order, as [`encode`] writes them (each event's inputs
+/// right after the previous event's outputs, and so on), and reserved fields must be zero: so
+/// every accepted file is the encoding of the list it decodes to, and the list is never larger
+/// than the file (overlapping ranges could make a small file name the same ids millions of times).
 pub fn decode(bytes: &[u8]) -> Result<EventList, EventFileError> {
     if bytes.len() < HEADER_BYTES + 4 {
         return Err(if bytes.len() >= 8 && &bytes[..8] != MAGIC {
@@ -230,43 +284,62 @@ pub fn decode(bytes: &[u8]) -> Result<EventList, EventFileError> {
             t
         })
         .collect();
-    let slice = |event: usize, what: &'static str, start: u32, count: u32, len: usize| {
-        let (start, count) = (start as usize, count as usize);
-        if start.checked_add(count).is_none_or(|end| end > len) {
-            Err(EventFileError::Range {
-                event,
-                what,
-                start,
-                count,
-                len,
-            })
-        } else {
-            Ok(start..start + count)
+    let reserved = u32::from_le_bytes([bytes[28], bytes[29], bytes[30], bytes[31]]);
+    if reserved != 0 {
+        return Err(EventFileError::Reserved(28));
+    }
+    let terms_at = expected - 4 - n_terms * TERM_BYTES;
+    for t in 0..n_terms {
+        let at = terms_at + t * TERM_BYTES + 12;
+        if bytes[at..at + 4] != [0; 4] {
+            return Err(EventFileError::Reserved(at));
         }
-    };
-    let assignments =
-        |event: usize, start: u32, count: u32| -> Result<Vec<Assignment>, EventFileError> {
-            slice(event, "assignment", start, count, assigns.len())?
-                .map(|i| {
-                    let (target, ts, tc) = assigns[i];
-                    let range = slice(event, "term", ts, tc, terms.len())?;
-                    Ok(Assignment::new(target, terms[range].to_vec()))
-                })
-                .collect()
-        };
+    }
+    let mut ids_used = 0;
+    let mut assigns_used = 0;
+    let mut terms_used = 0;
     let mut list = EventList::new();
     for (i, rec) in records.iter().enumerate() {
         let kind = kind_from(rec[0]).ok_or(EventFileError::Kind {
             event: i,
             kind: rec[0],
         })?;
+        let inputs = take(i, "input", rec[1], rec[2], ids.len(), &mut ids_used)?;
+        let outputs = take(i, "output", rec[3], rec[4], ids.len(), &mut ids_used)?;
+        let mut assignments = |start: u32, count: u32| -> Result<Vec<Assignment>, EventFileError> {
+            take(
+                i,
+                "assignment",
+                start,
+                count,
+                assigns.len(),
+                &mut assigns_used,
+            )?
+            .map(|a| {
+                let (target, ts, tc) = assigns[a];
+                let range = take(i, "term", ts, tc, terms.len(), &mut terms_used)?;
+                Ok(Assignment::new(target, terms[range].to_vec()))
+            })
+            .collect()
+        };
+        let forward = assignments(rec[5], rec[6])?;
+        let backward = assignments(rec[7], rec[8])?;
         list.push(Event {
             kind,
-            inputs: ids[slice(i, "input", rec[1], rec[2], ids.len())?].to_vec(),
-            outputs: ids[slice(i, "output", rec[3], rec[4], ids.len())?].to_vec(),
-            forward: assignments(i, rec[5], rec[6])?,
-            backward: assignments(i, rec[7], rec[8])?,
+            inputs: ids[inputs].to_vec(),
+            outputs: ids[outputs].to_vec(),
+            forward,
+            backward,
         });
+    }
+    for (what, used, len) in [
+        ("id", ids_used, ids.len()),
+        ("assignment", assigns_used, assigns.len()),
+        ("term", terms_used, terms.len()),
+    ] {
+        if used != len {
+            return Err(EventFileError::Unused { what, used, len });
+        }
     }
     Ok(list)
 }

@@ -122,6 +122,44 @@ fn temporary_path(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.{}.{n}.tmp", std::process::id()))
 }
 
+/// Removes from `dir` the temporary files of writes that were cut short (a killed process leaves
+/// its `.name.<pid>.<n>.tmp` behind); returns how many. A missing `dir` holds none.
+pub fn remove_stale_temporaries(dir: &Path) -> Result<usize, IoError> {
+    let failed = |action: &'static str| {
+        move |source: io::Error| IoError::Io {
+            path: dir.to_path_buf(),
+            action,
+            source,
+        }
+    };
+    let entries = match fs::read_dir(dir) {
+        Ok(entries) => entries,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(0),
+        Err(e) => return Err(failed("list the directory")(e)),
+    };
+    let mut removed = 0;
+    for entry in entries {
+        let entry = entry.map_err(failed("list the directory"))?;
+        if is_temporary(&entry.file_name().to_string_lossy()) {
+            fs::remove_file(entry.path()).map_err(failed("remove a stale temporary file in"))?;
+            removed += 1;
+        }
+    }
+    Ok(removed)
+}
+
+/// `.name.<pid>.<n>.tmp`, as [`temporary_path`] makes them.
+fn is_temporary(name: &str) -> bool {
+    let Some(inner) = name.strip_prefix('.').and_then(|n| n.strip_suffix(".tmp")) else {
+        return false;
+    };
+    let mut parts = inner.rsplitn(3, '.');
+    let numeric = |part: Option<&str>| {
+        part.is_some_and(|p| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit()))
+    };
+    numeric(parts.next()) && numeric(parts.next()) && parts.next().is_some_and(|n| !n.is_empty())
+}
+
 /// Makes `dir` ready to receive output frames: creates it (and its parents) if missing.
 ///
 /// An existing non-empty directory is refused unless `force` is set, so a run never mixes its

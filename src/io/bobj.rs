@@ -17,50 +17,116 @@ use std::io::{Read, Write};
 use std::path::Path;
 
 /// Reads a `.bobj.gz` frame without repairing it.
+///
+/// The payload is decompressed section by section, each only as far as its count asks and the
+/// stream delivers: memory follows the data actually present, so neither a forged count nor a
+/// small file that inflates to gigabytes (deflate expands up to 1032:1) can claim more.
 pub(crate) fn read_bobj_gz(path: &Path) -> Result<IndexedMesh, IoError> {
     let compressed = read_bytes(path)?;
-    let mut data = Vec::with_capacity(uncompressed_size_hint(&compressed));
-    MultiGzDecoder::new(compressed.as_slice())
-        .read_to_end(&mut data)
-        .map_err(|source| IoError::Gzip {
-            path: path.to_path_buf(),
-            source,
-        })?;
-    parse(path, &data)
-}
-
-/// The uncompressed size a gzip stream records in its last four bytes, bounded by the largest
-/// expansion deflate allows (1032:1) so a forged trailer cannot force a huge allocation.
-fn uncompressed_size_hint(compressed: &[u8]) -> usize {
-    let recorded = compressed
-        .last_chunk::<4>()
-        .map_or(0, |&trailer| u32::from_le_bytes(trailer) as usize);
-    recorded.min(compressed.len().saturating_mul(1032))
-}
-
-/// Decodes the uncompressed payload, checking every count against the bytes that remain before
-/// allocating for it.
-fn parse(path: &Path, data: &[u8]) -> Result<IndexedMesh, IoError> {
-    let mut rest = data;
-    let vertex_count = take_count(path, &mut rest, data.len(), "vertex")?;
-    let positions = take_records(path, &mut rest, vertex_count, "vertex")?;
-    let normal_count = take_count(path, &mut rest, data.len(), "normal")?;
-    take_records(path, &mut rest, normal_count, "normal")?;
-    let triangle_count = take_count(path, &mut rest, data.len(), "triangle")?;
-    let corners = take_records(path, &mut rest, triangle_count, "triangle")?;
-    if !rest.is_empty() {
-        return Err(IoError::Malformed {
-            path: path.to_path_buf(),
-            at: Location::Section("end of data"),
-            reason: format!("{} unexpected bytes after the triangles", rest.len()),
-        });
-    }
+    let mut payload = Payload {
+        path,
+        stream: MultiGzDecoder::new(compressed.as_slice()),
+        offset: 0,
+    };
+    let vertex_count = payload.count("vertex")?;
+    let positions = payload.records(vertex_count, "vertex")?;
+    let normal_count = payload.count("normal")?;
+    payload.records(normal_count, "normal")?;
+    let triangle_count = payload.count("triangle")?;
+    let corners = payload.records(triangle_count, "triangle")?;
+    payload.end()?;
     if vertex_count == 0 && triangle_count == 0 {
         return Err(IoError::Empty {
             path: path.to_path_buf(),
         });
     }
+    mesh(path, &positions, vertex_count, &corners)
+}
 
+/// The decompressed payload, read in order.
+struct Payload<'a, R> {
+    path: &'a Path,
+    stream: R,
+    /// Bytes of the payload read so far.
+    offset: usize,
+}
+
+impl<R: Read> Payload<'_, R> {
+    /// Up to `len` bytes, fewer only where the payload ends.
+    fn take(&mut self, len: usize) -> Result<Vec<u8>, IoError> {
+        let mut bytes = Vec::new();
+        (&mut self.stream)
+            .take(len as u64)
+            .read_to_end(&mut bytes)
+            .map_err(|source| IoError::Gzip {
+                path: self.path.to_path_buf(),
+                source,
+            })?;
+        self.offset += bytes.len();
+        Ok(bytes)
+    }
+
+    /// An `i32` count; negative counts are corrupt data.
+    fn count(&mut self, what: &'static str) -> Result<usize, IoError> {
+        let offset = self.offset;
+        let bytes = self.take(4)?;
+        let Ok(bytes) = <[u8; 4]>::try_from(bytes.as_slice()) else {
+            return Err(IoError::Truncated {
+                path: self.path.to_path_buf(),
+                at: Location::Byte(offset),
+                expected: format!("a 4-byte {what} count, found {} bytes", bytes.len()),
+            });
+        };
+        let count = i32::from_le_bytes(bytes);
+        usize::try_from(count).map_err(|_| IoError::InvalidCount {
+            path: self.path.to_path_buf(),
+            at: Location::Byte(offset),
+            what,
+            count: i64::from(count),
+        })
+    }
+
+    /// `count` records of 12 bytes (three 4-byte values each).
+    fn records(&mut self, count: usize, what: &'static str) -> Result<Vec<u8>, IoError> {
+        let len = count.saturating_mul(12);
+        let bytes = self.take(len)?;
+        if bytes.len() < len {
+            return Err(IoError::Truncated {
+                path: self.path.to_path_buf(),
+                at: Location::Element {
+                    element: what.into(),
+                    index: bytes.len() / 12,
+                },
+                expected: format!(
+                    "{count} {what} records ({len} bytes), found {} bytes",
+                    bytes.len()
+                ),
+            });
+        }
+        Ok(bytes)
+    }
+
+    /// Fails if anything follows the triangles.
+    fn end(&mut self) -> Result<(), IoError> {
+        if self.take(1)?.is_empty() {
+            Ok(())
+        } else {
+            Err(IoError::Malformed {
+                path: self.path.to_path_buf(),
+                at: Location::Byte(self.offset - 1),
+                reason: "unexpected bytes after the triangles".into(),
+            })
+        }
+    }
+}
+
+/// The mesh of the decoded sections: coordinates must be finite, corners in range.
+fn mesh(
+    path: &Path,
+    positions: &[u8],
+    vertex_count: usize,
+    corners: &[u8],
+) -> Result<IndexedMesh, IoError> {
     let positions: Vec<Vec3> = bytemuck::pod_collect_to_vec::<u8, [u32; 3]>(positions)
         .into_iter()
         .map(|p| Vec3::from_array(p.map(|bits| f32::from_bits(u32::from_le(bits)))))
@@ -75,7 +141,7 @@ fn parse(path: &Path, data: &[u8]) -> Result<IndexedMesh, IoError> {
             value: format!("{p}"),
         });
     }
-    let mut triangles = Vec::with_capacity(triangle_count);
+    let mut triangles = Vec::with_capacity(corners.len() / 12);
     for (t, corner) in bytemuck::pod_collect_to_vec::<u8, [i32; 3]>(corners)
         .into_iter()
         .enumerate()
@@ -99,58 +165,6 @@ fn parse(path: &Path, data: &[u8]) -> Result<IndexedMesh, IoError> {
         triangles.push(tri);
     }
     Ok(IndexedMesh::new(positions, triangles))
-}
-
-/// Reads an `i32` count from the `rest` of a payload of `total` bytes; negative counts are corrupt
-/// data.
-fn take_count(
-    path: &Path,
-    rest: &mut &[u8],
-    total: usize,
-    what: &'static str,
-) -> Result<usize, IoError> {
-    let offset = total - rest.len();
-    let Some((bytes, tail)) = rest.split_first_chunk::<4>() else {
-        return Err(IoError::Truncated {
-            path: path.to_path_buf(),
-            at: Location::Byte(offset),
-            expected: format!("a 4-byte {what} count, found {} bytes", rest.len()),
-        });
-    };
-    *rest = tail;
-    let count = i32::from_le_bytes(*bytes);
-    usize::try_from(count).map_err(|_| IoError::InvalidCount {
-        path: path.to_path_buf(),
-        at: Location::Byte(offset),
-        what,
-        count: i64::from(count),
-    })
-}
-
-/// Splits off `count` records of 12 bytes (three 4-byte values each).
-fn take_records<'a>(
-    path: &Path,
-    rest: &mut &'a [u8],
-    count: usize,
-    what: &'static str,
-) -> Result<&'a [u8], IoError> {
-    let len = count.saturating_mul(12);
-    if rest.len() < len {
-        return Err(IoError::Truncated {
-            path: path.to_path_buf(),
-            at: Location::Element {
-                element: what.into(),
-                index: rest.len() / 12,
-            },
-            expected: format!(
-                "{count} {what} records ({len} bytes), found {} bytes",
-                rest.len()
-            ),
-        });
-    }
-    let (records, tail) = rest.split_at(len);
-    *rest = tail;
-    Ok(records)
 }
 
 /// Writes `mesh` as a `.bobj.gz` frame, atomically. Vertex ids and attributes have no place in

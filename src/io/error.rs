@@ -42,6 +42,18 @@ pub enum IoError {
     },
     #[error("{}: file is empty (no vertices, no faces)", path.display())]
     Empty { path: PathBuf },
+    #[error("{}: every face is degenerate ({faces} dropped by repair): no surface is left", path.display())]
+    NothingLeft { path: PathBuf, faces: usize },
+    #[error("{}: has vertices but no faces: no surface", path.display())]
+    NoFaces { path: PathBuf },
+    #[error("{}: vertex {vertex} at {position} lies {spread:.1e} median edge lengths from the middle of the frame (more than {limit:.0e}): a garbage coordinate", path.display())]
+    Outlier {
+        path: PathBuf,
+        vertex: usize,
+        position: String,
+        spread: f64,
+        limit: f64,
+    },
     #[error("{}: unsupported format (expected .obj, .ply or .bobj.gz)", path.display())]
     UnsupportedFormat { path: PathBuf },
     #[error("{}: not a {format} file: {reason}", path.display())]

@@ -66,7 +66,7 @@ mod repair;
 mod sequence;
 mod weld;
 
-pub use atomic::{AtomicFile, atomic_write, prepare_output_dir};
+pub use atomic::{AtomicFile, atomic_write, prepare_output_dir, remove_stale_temporaries};
 pub use bobj::write_bobj_gz;
 pub use error::{IoError, Location};
 pub use format::Format;

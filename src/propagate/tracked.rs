@@ -8,6 +8,7 @@ use crate::io::{ReadOptions, read_frame_with};
 use crate::mesh::IndexedMesh;
 use crate::sequence::{Layout, TRACK_FILE, frame_name, frame_number};
 use crate::track::StageChurn;
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 /// A tracked sequence on disk: `frames/frame_NNNN.ply` with persistent ids and `events/NNNN.events`,
@@ -25,7 +26,8 @@ impl TrackedSequence {
     ///
     /// Frames are numbered from 0 without gaps. When `track.json` says how many frames are complete
     /// (`completed`), frames beyond that (a run still going, or killed) are left out; its `input`
-    /// list, when present, is kept for [`Self::input`].
+    /// list, when present, is kept for [`Self::input`]. The event list of every transition must be
+    /// present and whole.
     pub fn open(dir: &Path) -> Result<Self, PropagateError> {
         let frames_dir = Layout::new(dir).frames_dir();
         let entries = std::fs::read_dir(&frames_dir).map_err(|e| PropagateError::Unreadable {
@@ -51,12 +53,18 @@ impl TrackedSequence {
                 dir: dir.to_path_buf(),
             });
         }
-        Ok(Self {
+        let sequence = Self {
             dir: dir.to_path_buf(),
             frames: (0..count).map(|k| frames_dir.join(frame_name(k))).collect(),
             input,
             churn,
-        })
+        };
+        // Every event list is read once up front (they are small next to the frames), so a
+        // missing or damaged one stops a command before it writes anything.
+        for frame in 1..count {
+            sequence.read_events(frame)?;
+        }
+        Ok(sequence)
     }
 
     pub fn dir(&self) -> &Path {
@@ -92,7 +100,10 @@ impl TrackedSequence {
     }
 
     /// Tracked frame `frame` exactly as written (no repair, which could renumber vertices), with its
-    /// persistent ids, which must be present and distinct.
+    /// persistent ids, which must be present and distinct, and which the event list of the
+    /// transition into it must agree with ([`Self::check_events`]; frame 0's list records the
+    /// first frame's own improvement and carries nothing): a reader of the folder never goes on
+    /// past a missing, damaged or foreign event list.
     pub fn read_frame(&self, frame: usize) -> Result<IndexedMesh, PropagateError> {
         let path = self.frame_path(frame);
         let options = ReadOptions {
@@ -113,7 +124,46 @@ impl TrackedSequence {
                 what: format!("persistent id {} appears twice", w[0]),
             });
         }
+        if frame > 0 {
+            self.check_events(frame, &sorted)?;
+        }
         Ok(mesh)
+    }
+
+    /// Checks the event list of `frame` against the frame's ids (`sorted`): every vertex the list
+    /// leaves alive (created, or kept by an event) is in the frame, and every vertex it destroys
+    /// is not. An event list of another run or frame fails this almost surely; the previous frame
+    /// is not needed, so the check costs one small file per frame.
+    fn check_events(&self, frame: usize, sorted: &[u64]) -> Result<(), PropagateError> {
+        let list = self.read_events(frame)?;
+        let mut alive: HashMap<u64, bool> = HashMap::new();
+        for event in &list.events {
+            for id in &event.inputs {
+                if !event.outputs.contains(id) {
+                    alive.insert(*id, false);
+                }
+            }
+            for id in &event.outputs {
+                alive.insert(*id, true);
+            }
+        }
+        let mut touched: Vec<(u64, bool)> = alive.into_iter().collect();
+        touched.sort_unstable();
+        if let Some((id, alive)) = touched
+            .into_iter()
+            .find(|&(id, alive)| sorted.binary_search(&id).is_ok() != alive)
+        {
+            let frame_file = self.frame_path(frame).display().to_string();
+            return Err(PropagateError::Inconsistent {
+                path: self.events_path(frame),
+                what: format!(
+                    "vertex {id} is {} by this event list but {} {frame_file} (an event list of another run or frame?)",
+                    if alive { "left alive" } else { "destroyed" },
+                    if alive { "missing from" } else { "present in" },
+                ),
+            });
+        }
+        Ok(())
     }
 
     /// The checked event list of the transition `frame − 1 → frame`.

@@ -3,14 +3,13 @@
 //! is written (mesh, then events, then `track.json`, each atomically) before the next begins, so a
 //! run killed at any moment resumes from its last complete frame with the same bytes.
 
+use super::resume::written;
 use super::state::STATE_VERSION;
-use super::{FrameFormat, Layout, RunState, SequenceError, Summary};
+use super::{FrameFormat, Layout, RunState, SequenceError, Summary, resume_point};
 use crate::compute::Backend;
 use crate::events::EventList;
 use crate::events::file::encode;
-use crate::io::{
-    ReadOptions, atomic_write, prepare_output_dir, read_frame, read_frame_with, write_ply,
-};
+use crate::io::{atomic_write, prepare_output_dir, read_frame, write_ply};
 use crate::mesh::IndexedMesh;
 use crate::track::{FrameLog, TrackOptions, Tracker};
 use serde::Serialize;
@@ -119,21 +118,12 @@ where
     };
     let (mut tracker, mut state) = match &output {
         Some(o) if o.start == Start::Resume => {
-            let state = RunState::load_matching(
-                &o.layout.state_path(),
-                &input,
-                o.format,
-                &Some(o.params.clone()),
-            )?;
-            let last = o.layout.frame_path(state.completed - 1, state.format);
-            // The written frame is the tracker's whole state, read as it is: a repair would weld
-            // two vertices that improvement left within the weld distance of each other.
-            let exact = ReadOptions {
-                repair: false,
-                ..ReadOptions::default()
-            };
-            let mesh = read_frame_with(&last, &exact)?.mesh;
-            let tracker = Tracker::resume(&mesh, state.next_id, state.edge_length, options)?;
+            let point = resume_point(&o.layout, &input, o.format, &Some(o.params.clone()))?;
+            for warning in point.warnings {
+                progress(Progress::Warning(warning));
+            }
+            let state = point.state;
+            let tracker = Tracker::resume(&point.mesh, state.next_id, state.edge_length, options)?;
             (tracker, state)
         }
         _ => {
@@ -162,6 +152,7 @@ where
                 completed: 0,
                 next_id: 0,
                 frames: Vec::new(),
+                written: Vec::new(),
             };
             commit(output.as_ref(), &tracker, &events, log, &mut state)?;
             progress(Progress::Frame {
@@ -196,7 +187,10 @@ where
             (stepped, read)
         });
         next = read;
-        let (events, log) = stepped?;
+        let (events, log) = stepped.map_err(|error| SequenceError::Frame {
+            frame: source.name(k),
+            source: error,
+        })?;
         commit(output.as_ref(), &tracker, &events, log, &mut state)?;
         progress(Progress::Frame {
             tracker: &tracker,
@@ -239,20 +233,38 @@ fn commit<P: Serialize>(
     let Some(w) = output else {
         return Ok(());
     };
+    // The folders are made one level at a time: a root that vanished during the run (deleted,
+    // or its disk unmounted) is reported rather than silently made again without the frames it held.
+    let gone = || SequenceError::OutputGone {
+        path: w.layout.root().to_path_buf(),
+        completed: k,
+    };
+    if !w.layout.root().is_dir() || (k > 0 && !w.layout.state_path().is_file()) {
+        return Err(gone());
+    }
     for dir in [w.layout.frames_dir(), w.layout.events_dir()] {
-        std::fs::create_dir_all(&dir).map_err(|source| SequenceError::Create {
-            path: dir.clone(),
-            source,
-        })?;
+        match std::fs::create_dir(&dir) {
+            Ok(()) => {}
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(gone()),
+            Err(source) => return Err(SequenceError::Create { path: dir, source }),
+        }
     }
     let mesh = tracker.mesh().to_indexed();
     let path = w.layout.frame_path(k, w.format);
-    match w.format {
-        FrameFormat::Ply => write_ply(&path, &mesh)?,
-    }
     let bytes = encode(events);
-    atomic_write(&w.layout.events_path(k), |f| f.write_all(&bytes))?;
-    let json = serde_json::to_vec_pretty(state)?;
-    atomic_write(&w.layout.state_path(), |f| f.write_all(&json))?;
-    Ok(())
+    let mut write = || -> Result<(), SequenceError> {
+        match w.format {
+            FrameFormat::Ply => write_ply(&path, &mesh)?,
+        }
+        atomic_write(&w.layout.events_path(k), |f| f.write_all(&bytes))?;
+        state
+            .written
+            .push(written(&path, bytes.len(), state.next_id)?);
+        let json = serde_json::to_vec_pretty(state)?;
+        atomic_write(&w.layout.state_path(), |f| f.write_all(&json))?;
+        Ok(())
+    };
+    // A write that failed because the folder went away says so, not which file it was at.
+    write().map_err(|e| if w.layout.root().is_dir() { e } else { gone() })
 }

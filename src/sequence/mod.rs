@@ -4,6 +4,7 @@
 
 mod driver;
 mod layout;
+mod resume;
 mod state;
 mod summary;
 
@@ -12,7 +13,8 @@ pub use layout::{
     EVENTS_DIR, FRAMES_DIR, FrameFormat, Layout, SUMMARY_FILE, TRACK_FILE, events_name,
     frame_file_name, frame_name, frame_number,
 };
-pub use state::{RunState, STATE_VERSION};
+pub use resume::{ResumePoint, resume_point};
+pub use state::{RunState, STATE_VERSION, Written};
 pub use summary::Summary;
 
 use crate::io::IoError;
@@ -32,6 +34,9 @@ pub enum SequenceError {
     InvalidFirst { frame: String, source: MeshError },
     #[error(transparent)]
     Track(#[from] TrackError),
+    /// A step failed on this input frame (a file name, or `frame k` for frames in memory).
+    #[error("{frame}: {source}")]
+    Frame { frame: String, source: TrackError },
     #[error("{}: {message}", path.display())]
     State { path: PathBuf, message: String },
     #[error("cannot create {}: {source}", path.display())]
@@ -39,6 +44,10 @@ pub enum SequenceError {
         path: PathBuf,
         source: std::io::Error,
     },
+    #[error("{}: {reason}", path.display())]
+    Damaged { path: PathBuf, reason: String },
+    #[error("{}: the output folder disappeared during the run (frames {completed} and later were not written)", path.display())]
+    OutputGone { path: PathBuf, completed: usize },
     #[error("cannot write the run description: {0}")]
     Json(#[from] serde_json::Error),
 }
