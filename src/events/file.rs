@@ -14,6 +14,7 @@
 //! ```
 
 use super::{Assignment, Event, EventKind, EventList};
+use rustc_hash::FxHashMap;
 use thiserror::Error;
 
 pub const MAGIC: &[u8; 8] = b"SURFEVT\0";
@@ -220,13 +221,11 @@ impl Reader<'_> {
     }
 }
 
-/// Parses and checks an event-list file: magic, version, sizes, checksum, and every index range.
-///
-/// The ranges must tile their tables in order, as [`encode`] writes them (each event's inputs
-/// right after the previous event's outputs, and so on), and reserved fields must be zero: so
-/// every accepted file is the encoding of the list it decodes to, and the list is never larger
-/// than the file (overlapping ranges could make a small file name the same ids millions of times).
-pub fn decode(bytes: &[u8]) -> Result<EventList, EventFileError> {
+/// Checks that `bytes` are one whole event file — magic, version, the length its counts give
+/// and the checksum — without decoding it; returns the counts of events, ids, assignments and
+/// terms. A reader that only needs to know a file is present and whole (before writing anything)
+/// pays for a checksum, not for building the list.
+pub fn verify(bytes: &[u8]) -> Result<[usize; 4], EventFileError> {
     if bytes.len() < HEADER_BYTES + 4 {
         return Err(if bytes.len() >= 8 && &bytes[..8] != MAGIC {
             EventFileError::Magic
@@ -269,7 +268,54 @@ pub fn decode(bytes: &[u8]) -> Result<EventList, EventFileError> {
     if stored != computed {
         return Err(EventFileError::Checksum { stored, computed });
     }
-    r.at = HEADER_BYTES;
+    Ok(counts)
+}
+
+/// Every vertex a whole event file (see [`verify`]) touches, sorted, with whether the list leaves
+/// it alive: an event destroys its inputs and leaves its outputs alive, in the list's order (an
+/// input an event also outputs, as an edge split keeps its ends, stays alive). Reads only the
+/// event records and the id table, not the rules, so a reader checking a list against its frame's
+/// ids pays little for it.
+pub fn touched(bytes: &[u8]) -> Result<Vec<(u64, bool)>, EventFileError> {
+    let [n_events, n_ids, _, _] = verify(bytes)?;
+    let mut r = Reader {
+        bytes,
+        at: HEADER_BYTES,
+    };
+    let records: Vec<[u32; 9]> = (0..n_events)
+        .map(|_| std::array::from_fn(|_| r.u32()))
+        .collect();
+    let ids: Vec<u64> = (0..n_ids).map(|_| r.u64()).collect();
+    let mut used = 0;
+    let mut alive: FxHashMap<u64, bool> = FxHashMap::default();
+    for (i, rec) in records.iter().enumerate() {
+        let inputs = take(i, "input", rec[1], rec[2], ids.len(), &mut used)?;
+        let outputs = take(i, "output", rec[3], rec[4], ids.len(), &mut used)?;
+        for &id in &ids[inputs] {
+            alive.insert(id, false);
+        }
+        for &id in &ids[outputs] {
+            alive.insert(id, true);
+        }
+    }
+    let mut touched: Vec<(u64, bool)> = alive.into_iter().collect();
+    touched.sort_unstable();
+    Ok(touched)
+}
+
+/// Parses and checks an event-list file: magic, version, sizes, checksum, and every index range.
+///
+/// The ranges must tile their tables in order, as [`encode`] writes them (each event's inputs
+/// right after the previous event's outputs, and so on), and reserved fields must be zero: so
+/// every accepted file is the encoding of the list it decodes to, and the list is never larger
+/// than the file (overlapping ranges could make a small file name the same ids millions of times).
+pub fn decode(bytes: &[u8]) -> Result<EventList, EventFileError> {
+    let [n_events, n_ids, n_assigns, n_terms] = verify(bytes)?;
+    let mut r = Reader {
+        bytes,
+        at: HEADER_BYTES,
+    };
+    let expected = bytes.len();
     let records: Vec<[u32; 9]> = (0..n_events)
         .map(|_| std::array::from_fn(|_| r.u32()))
         .collect();

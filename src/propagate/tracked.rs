@@ -3,12 +3,11 @@
 
 use super::PropagateError;
 use crate::events::EventList;
-use crate::events::file::decode;
+use crate::events::file::{decode, touched, verify};
 use crate::io::{ReadOptions, read_frame_with};
 use crate::mesh::IndexedMesh;
 use crate::sequence::{Layout, TRACK_FILE, frame_name, frame_number};
 use crate::track::StageChurn;
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 /// A tracked sequence on disk: `frames/frame_NNNN.ply` with persistent ids and `events/NNNN.events`,
@@ -59,10 +58,11 @@ impl TrackedSequence {
             input,
             churn,
         };
-        // Every event list is read once up front (they are small next to the frames), so a
-        // missing or damaged one stops a command before it writes anything.
+        // Every event list is checked whole up front (its length and checksum, not its decoding),
+        // so a missing or damaged one stops a command before it writes anything.
         for frame in 1..count {
-            sequence.read_events(frame)?;
+            let (path, bytes) = sequence.event_bytes(frame)?;
+            verify(&bytes).map_err(|source| PropagateError::EventFile { path, source })?;
         }
         Ok(sequence)
     }
@@ -135,20 +135,9 @@ impl TrackedSequence {
     /// is not. An event list of another run or frame fails this almost surely; the previous frame
     /// is not needed, so the check costs one small file per frame.
     fn check_events(&self, frame: usize, sorted: &[u64]) -> Result<(), PropagateError> {
-        let list = self.read_events(frame)?;
-        let mut alive: HashMap<u64, bool> = HashMap::new();
-        for event in &list.events {
-            for id in &event.inputs {
-                if !event.outputs.contains(id) {
-                    alive.insert(*id, false);
-                }
-            }
-            for id in &event.outputs {
-                alive.insert(*id, true);
-            }
-        }
-        let mut touched: Vec<(u64, bool)> = alive.into_iter().collect();
-        touched.sort_unstable();
+        let (path, bytes) = self.event_bytes(frame)?;
+        let touched =
+            touched(&bytes).map_err(|source| PropagateError::EventFile { path, source })?;
         if let Some((id, alive)) = touched
             .into_iter()
             .find(|&(id, alive)| sorted.binary_search(&id).is_ok() != alive)
@@ -166,13 +155,19 @@ impl TrackedSequence {
         Ok(())
     }
 
-    /// The checked event list of the transition `frame − 1 → frame`.
-    pub fn read_events(&self, frame: usize) -> Result<EventList, PropagateError> {
+    /// The bytes of the event list of the transition `frame − 1 → frame`.
+    fn event_bytes(&self, frame: usize) -> Result<(PathBuf, Vec<u8>), PropagateError> {
         let path = self.events_path(frame);
         let bytes = std::fs::read(&path).map_err(|e| PropagateError::Unreadable {
             path: path.clone(),
             reason: e.to_string(),
         })?;
+        Ok((path, bytes))
+    }
+
+    /// The checked event list of the transition `frame − 1 → frame`.
+    pub fn read_events(&self, frame: usize) -> Result<EventList, PropagateError> {
+        let (path, bytes) = self.event_bytes(frame)?;
         let list = decode(&bytes).map_err(|source| PropagateError::EventFile {
             path: path.clone(),
             source,
