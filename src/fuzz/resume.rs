@@ -173,7 +173,16 @@ impl Harness for Resume {
             ));
         }
         let options = TrackOptions::default();
-        if Tracker::resume(&point.mesh, state.next_id, state.edge_length, &options).is_err() {
+        let last = state.completed.saturating_sub(1);
+        if Tracker::resume(
+            last,
+            &point.mesh,
+            state.next_id,
+            state.edge_length,
+            &options,
+        )
+        .is_err()
+        {
             return Ok(Verdict::Refused);
         }
         Ok(Verdict::Accepted)

@@ -123,7 +123,13 @@ where
                 progress(Progress::Warning(warning));
             }
             let state = point.state;
-            let tracker = Tracker::resume(&point.mesh, state.next_id, state.edge_length, options)?;
+            let tracker = Tracker::resume(
+                state.completed.saturating_sub(1),
+                &point.mesh,
+                state.next_id,
+                state.edge_length,
+                options,
+            )?;
             (tracker, state)
         }
         _ => {

@@ -237,15 +237,16 @@ impl Tracker {
         Ok((tracker, events, log))
     }
 
-    /// A tracker continuing from a written frame: `mesh` with its persistent ids, `next_id` and the
-    /// run's target edge length as recorded in `track.json`.
+    /// A tracker continuing from written frame `frame`: `mesh` with its persistent ids, `next_id`
+    /// and the run's target edge length as recorded in `track.json`. An error names `frame`.
     pub fn resume(
+        frame: usize,
         mesh: &IndexedMesh,
         next_id: u64,
         edge_length: f32,
         options: &TrackOptions,
     ) -> Result<Self, TrackError> {
-        let mut mesh = Mesh::from_indexed(mesh).map_err(|e| TrackError::at(0, e))?;
+        let mut mesh = Mesh::from_indexed(mesh).map_err(|e| TrackError::at(frame, e))?;
         mesh.reserve_ids_below(next_id);
         Self::with_mesh(mesh, edge_length, options)
     }
