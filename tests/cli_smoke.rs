@@ -1,7 +1,7 @@
 //! The commands a new user types first, run as the binary: `demo`, `bench` on two frames, and
 //! `track --backend gpu` against `--backend cpu` (same frames and events, byte for byte).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 fn surftrack() -> Command {
@@ -61,21 +61,19 @@ fn walk(dir: &Path) -> Vec<std::path::PathBuf> {
     out
 }
 
+/// Three frames of synth `scene` at resolution 24, written under `dir`.
+fn small_synth(scene: &str, dir: &Path) -> PathBuf {
+    let input = dir.join("in");
+    run(surftrack()
+        .args(["synth", scene, "--resolution", "24", "--frames", "3", "-o"])
+        .arg(&input));
+    input
+}
+
 #[test]
 fn bench_times_two_frames_of_a_given_sequence() {
     let dir = tempfile::tempdir().unwrap();
-    let input = dir.path().join("in");
-    run(surftrack()
-        .args([
-            "synth",
-            "blobs",
-            "--resolution",
-            "24",
-            "--frames",
-            "3",
-            "-o",
-        ])
-        .arg(&input));
+    let input = small_synth("blobs", dir.path());
     let stdout = run(surftrack()
         .args(["bench", "--frames", "2", "--input"])
         .arg(&input));
@@ -95,18 +93,7 @@ fn bench_times_two_frames_of_a_given_sequence() {
 #[test]
 fn bench_json_gives_the_stage_figures_of_every_run() {
     let dir = tempfile::tempdir().unwrap();
-    let input = dir.path().join("in");
-    run(surftrack()
-        .args([
-            "synth",
-            "merge",
-            "--resolution",
-            "24",
-            "--frames",
-            "3",
-            "-o",
-        ])
-        .arg(&input));
+    let input = small_synth("merge", dir.path());
     let stdout = run(surftrack()
         .args(["bench", "--frames", "3", "--json", "--input"])
         .arg(&input));

@@ -1,56 +1,12 @@
 //! `surftrack track` end to end: a run killed with SIGKILL and resumed gives byte-identical output to
 //! an uninterrupted one, and every tracked frame is a closed manifold with its input's topology.
 
-use std::path::Path;
-use std::process::{Command, Stdio};
+mod track_support;
+
+use std::process::Stdio;
 use std::time::{Duration, Instant};
 use surftrack::io::{ReadOptions, read_frame, read_frame_with, write_ply};
-
-fn surftrack() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_surftrack"))
-}
-
-fn synth(scene: &str, dir: &Path, resolution: &str, frames: &str) {
-    let status = surftrack()
-        .args(["synth", scene, "-o"])
-        .arg(dir)
-        .args(["--resolution", resolution, "--frames", frames])
-        .stdout(Stdio::null())
-        .status()
-        .unwrap();
-    assert!(status.success());
-}
-
-fn track(input: &Path, out: &Path, extra: &[&str]) -> Command {
-    let mut c = surftrack();
-    c.arg("track").arg(input).arg("-o").arg(out);
-    c.args(["--backend", "cpu", "--quiet"]).args(extra);
-    c
-}
-
-fn completed(out: &Path) -> usize {
-    std::fs::read_to_string(out.join("track.json"))
-        .ok()
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-        .and_then(|v| v["completed"].as_u64())
-        .unwrap_or(0) as usize
-}
-
-fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut out = Vec::new();
-    for sub in ["frames", "events"] {
-        let mut names: Vec<_> = std::fs::read_dir(dir.join(sub))
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .collect();
-        names.sort();
-        for p in names {
-            let name = format!("{sub}/{}", p.file_name().unwrap().to_string_lossy());
-            out.push((name, std::fs::read(&p).unwrap()));
-        }
-    }
-    out
-}
+use track_support::{completed, files, synth, track};
 
 #[test]
 fn a_killed_run_resumes_to_identical_bytes() {

@@ -3,6 +3,8 @@
 //! disappears or changes after discovery. Every resumed run ends byte-identical to an
 //! uninterrupted one, and nothing a run had written is lost.
 
+mod track_support;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -13,28 +15,7 @@ use surftrack::sequence::{
     FrameFormat, FrameSource, Layout, Output as RunOutput, SequenceError, Start, track_sequence,
 };
 use surftrack::track::TrackOptions;
-
-fn surftrack() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_surftrack"))
-}
-
-fn synth(scene: &str, dir: &Path, resolution: &str, frames: &str) {
-    let status = surftrack()
-        .args(["synth", scene, "-o"])
-        .arg(dir)
-        .args(["--resolution", resolution, "--frames", frames])
-        .stdout(Stdio::null())
-        .status()
-        .unwrap();
-    assert!(status.success());
-}
-
-fn track(input: &Path, out: &Path, extra: &[&str]) -> Command {
-    let mut c = surftrack();
-    c.arg("track").arg(input).arg("-o").arg(out);
-    c.args(["--backend", "cpu", "--quiet"]).args(extra);
-    c
-}
+use track_support::{completed, files, synth, track};
 
 fn run(command: &mut Command) -> Output {
     command.output().unwrap()
@@ -42,31 +23,6 @@ fn run(command: &mut Command) -> Output {
 
 fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
-}
-
-fn completed(out: &Path) -> usize {
-    std::fs::read_to_string(out.join("track.json"))
-        .ok()
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-        .and_then(|v| v["completed"].as_u64())
-        .unwrap_or(0) as usize
-}
-
-/// Every file under `frames/` and `events/`, hidden ones included, with its bytes.
-fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut out = Vec::new();
-    for sub in ["frames", "events"] {
-        let Ok(entries) = std::fs::read_dir(dir.join(sub)) else {
-            continue;
-        };
-        let mut names: Vec<PathBuf> = entries.map(|e| e.unwrap().path()).collect();
-        names.sort();
-        for p in names {
-            let name = format!("{sub}/{}", p.file_name().unwrap().to_string_lossy());
-            out.push((name, std::fs::read(&p).unwrap()));
-        }
-    }
-    out
 }
 
 fn assert_same(whole: &Path, other: &Path) {
