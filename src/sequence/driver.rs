@@ -4,7 +4,7 @@
 //! run killed at any moment resumes from its last complete frame with the same bytes.
 
 use super::resume::written;
-use super::state::STATE_VERSION;
+use super::state::{STATE_VERSION, Written};
 use super::{FrameFormat, Layout, RunState, SequenceError, Summary, resume_point};
 use crate::compute::Backend;
 use crate::events::EventList;
@@ -80,7 +80,8 @@ pub enum Progress<'a> {
     /// A frame that is not a closed 2-manifold is used as a target anyway (only its voxelization
     /// and projection are used).
     Warning(String),
-    /// Frame `log.frame` is complete (and written, with an output folder).
+    /// Frame `log.frame` is complete; with an output folder its files are written while the next
+    /// frame tracks (a resume finds them through `track.json`).
     Frame {
         tracker: &'a Tracker,
         events: &'a EventList,
@@ -97,7 +98,9 @@ pub struct RunReport {
     pub seconds: f64,
 }
 
-/// Tracks `source` into `output` (when given), reporting to `progress`.
+/// Tracks `source` into `output` (when given), reporting to `progress`. While a frame tracks, the
+/// next one is read and the previous one's files are written on other threads, so frame I/O stays
+/// off the critical path; a run that stops on an error still writes every frame it tracked.
 pub fn track_sequence<P>(
     source: FrameSource,
     backend: &Backend,
@@ -106,7 +109,7 @@ pub fn track_sequence<P>(
     mut progress: impl FnMut(Progress),
 ) -> Result<RunReport, SequenceError>
 where
-    P: Serialize + DeserializeOwned + PartialEq + Clone,
+    P: Serialize + DeserializeOwned + PartialEq + Clone + Send + Sync,
 {
     let started = Instant::now();
     if source.is_empty() {
@@ -160,7 +163,9 @@ where
                 frames: Vec::new(),
                 written: Vec::new(),
             };
-            commit(output.as_ref(), &tracker, &events, log, &mut state)?;
+            if let Some(write) = record(output.as_ref(), &tracker, &events, log, &mut state) {
+                state.written.push(write.run()?);
+            }
             progress(Progress::Frame {
                 tracker: &tracker,
                 events: &events,
@@ -171,8 +176,19 @@ where
     };
 
     let mut next = (state.completed < source.len()).then(|| source.get(state.completed));
+    // The previous frame's files, written while this frame tracks.
+    let mut pending: Option<FrameWrite<P>> = None;
     for k in state.completed..source.len() {
-        let target = next.take().expect("the frame was read ahead")?;
+        let target = match next.take().expect("the frame was read ahead") {
+            Ok(target) => target,
+            Err(error) => {
+                // The frames tracked before an unreadable one are written all the same.
+                if let Some(write) = pending.take() {
+                    state.written.push(write.run()?);
+                }
+                return Err(error);
+            }
+        };
         if let Err(e) = target.validate() {
             progress(Progress::Warning(format!(
                 "warning: {}: {e}; using it as a target anyway (only its voxelization and projection are used)",
@@ -183,26 +199,32 @@ where
             k,
             done: state.completed,
         });
-        let (stepped, read) = std::thread::scope(|scope| {
+        let (stepped, read, wrote) = std::thread::scope(|scope| {
             let ahead = (k + 1 < source.len()).then(|| scope.spawn(|| source.get(k + 1)));
+            let writing = pending.take().map(|write| scope.spawn(move || write.run()));
             let stepped = tracker.step(backend, k, &target);
-            let read = ahead.map(|handle| match handle.join() {
-                Ok(read) => read,
-                Err(panic) => std::panic::resume_unwind(panic),
-            });
-            (stepped, read)
+            let read = ahead.map(join);
+            let wrote = writing.map(join);
+            (stepped, read, wrote)
         });
+        // The earlier frame's failure is reported first: its files are what a resume starts from.
+        if let Some(wrote) = wrote {
+            state.written.push(wrote?);
+        }
         next = read;
         let (events, log) = stepped.map_err(|error| SequenceError::Frame {
             frame: source.name(k),
             source: error,
         })?;
-        commit(output.as_ref(), &tracker, &events, log, &mut state)?;
+        pending = record(output.as_ref(), &tracker, &events, log, &mut state);
         progress(Progress::Frame {
             tracker: &tracker,
             events: &events,
             log: state.frames.last().expect("the frame was just committed"),
         });
+    }
+    if let Some(write) = pending {
+        state.written.push(write.run()?);
     }
     let seconds = started.elapsed().as_secs_f64();
     if let Some(o) = &output {
@@ -222,55 +244,83 @@ where
     })
 }
 
-/// Records frame `state.completed` in `state` and, with an output folder, writes it (mesh, then events),
-/// then advances `track.json`; each write is atomic, so a crash leaves either the old or the new
-/// state, never a torn one.
-fn commit<P: Serialize>(
-    output: Option<&Output<P>>,
+/// The result of a scoped thread, its panic passed on.
+fn join<T>(handle: std::thread::ScopedJoinHandle<'_, T>) -> T {
+    match handle.join() {
+        Ok(value) => value,
+        Err(panic) => std::panic::resume_unwind(panic),
+    }
+}
+
+/// Records frame `state.completed` in `state`; with an output folder, returns the writing of its
+/// files, which the driver runs while the next frame tracks (off the critical path).
+fn record<'o, P: Clone>(
+    output: Option<&'o Output<'o, P>>,
     tracker: &Tracker,
     events: &EventList,
     log: FrameLog,
     state: &mut RunState<Option<P>>,
-) -> Result<(), SequenceError> {
+) -> Option<FrameWrite<'o, P>> {
     let k = state.completed;
     state.frames.push(log);
     state.completed = k + 1;
     state.next_id = tracker.mesh().next_id();
-    let Some(w) = output else {
-        return Ok(());
-    };
-    // The folders are made one level at a time: a root that vanished during the run (deleted,
-    // or its disk unmounted) is reported rather than silently made again without the frames it held.
-    let gone = || SequenceError::OutputGone {
-        path: w.layout.root().to_path_buf(),
-        completed: k,
-    };
-    if !w.layout.root().is_dir() || (k > 0 && !w.layout.state_path().is_file()) {
-        return Err(gone());
-    }
-    for dir in [w.layout.frames_dir(), w.layout.events_dir()] {
-        match std::fs::create_dir(&dir) {
-            Ok(()) => {}
-            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(gone()),
-            Err(source) => return Err(SequenceError::Create { path: dir, source }),
+    output.map(|output| FrameWrite {
+        output,
+        k,
+        mesh: tracker.mesh().to_indexed(),
+        events: encode(events),
+        state: state.clone(),
+    })
+}
+
+/// Frame `k`'s files: its mesh, its encoded event list, and the run state `track.json` holds once
+/// they are written (without this frame's [`Written`] yet, which writing them adds).
+struct FrameWrite<'o, P> {
+    output: &'o Output<'o, P>,
+    k: usize,
+    mesh: IndexedMesh,
+    events: Vec<u8>,
+    state: RunState<Option<P>>,
+}
+
+impl<P: Serialize> FrameWrite<'_, P> {
+    /// Writes the mesh, then the event list, then advances `track.json`; each write is atomic, so
+    /// a crash leaves either the old or the new state, never a torn one. Returns what the frame
+    /// left on disk.
+    fn run(mut self) -> Result<Written, SequenceError> {
+        let (w, k) = (self.output, self.k);
+        // The folders are made one level at a time: a root that vanished during the run (deleted,
+        // or its disk unmounted) is reported rather than silently made again without the frames
+        // it held.
+        let gone = || SequenceError::OutputGone {
+            path: w.layout.root().to_path_buf(),
+            completed: k,
+        };
+        if !w.layout.root().is_dir() || (k > 0 && !w.layout.state_path().is_file()) {
+            return Err(gone());
         }
-    }
-    let mesh = tracker.mesh().to_indexed();
-    let path = w.layout.frame_path(k, w.format);
-    let bytes = encode(events);
-    let mut write = || -> Result<(), SequenceError> {
-        match w.format {
-            FrameFormat::Ply => write_ply(&path, &mesh)?,
+        for dir in [w.layout.frames_dir(), w.layout.events_dir()] {
+            match std::fs::create_dir(&dir) {
+                Ok(()) => {}
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(gone()),
+                Err(source) => return Err(SequenceError::Create { path: dir, source }),
+            }
         }
-        atomic_write(&w.layout.events_path(k), |f| f.write_all(&bytes))?;
-        state
-            .written
-            .push(written(&path, bytes.len(), state.next_id)?);
-        let json = serde_json::to_vec_pretty(state)?;
-        atomic_write(&w.layout.state_path(), |f| f.write_all(&json))?;
-        Ok(())
-    };
-    // A write that failed because the folder went away says so, not which file it was at.
-    write().map_err(|e| if w.layout.root().is_dir() { e } else { gone() })
+        let path = w.layout.frame_path(k, w.format);
+        let mut write = || -> Result<Written, SequenceError> {
+            match w.format {
+                FrameFormat::Ply => write_ply(&path, &self.mesh)?,
+            }
+            atomic_write(&w.layout.events_path(k), |f| f.write_all(&self.events))?;
+            let done = written(&path, self.events.len(), self.state.next_id)?;
+            self.state.written.push(done);
+            let json = serde_json::to_vec_pretty(&self.state)?;
+            atomic_write(&w.layout.state_path(), |f| f.write_all(&json))?;
+            Ok(done)
+        };
+        // A write that failed because the folder went away says so, not which file it was at.
+        write().map_err(|e| if w.layout.root().is_dir() { e } else { gone() })
+    }
 }
