@@ -450,3 +450,54 @@ fn a_patch_takes_the_replaced_surface_at_its_closest_points() {
     println!("linear field missed by {merged} (merge) and {punched} (hole) grid steps");
     assert!(merged <= 1e-3 && punched <= 1e-3);
 }
+
+/// A sheet thinner than a cell, lying between two planes of grid corners: no corner is inside it,
+/// so Θ, sampled at the corners, cannot hold it, and its isosurface has nothing there.
+fn thin_sheet(h: f32, shift: Vec3) -> IndexedMesh {
+    let sheet = move |p: Vec3| {
+        let q = p - shift - Vec3::new(0.0, 0.0, 0.5);
+        let d = q.abs() - Vec3::new(4.0, 4.0, 0.12);
+        d.max(Vec3::ZERO).length() + d.max_element().min(0.0)
+    };
+    let n = (12.0 / h).ceil() as usize;
+    let origin = Vec3::new(-6.0, -6.0, -5.5) + Vec3::new(0.31, 0.17, 0.43) * h;
+    marching_cubes(&ScalarGrid::from_fn(origin, h, [n; 3], sheet).unwrap(), 0.0)
+}
+
+/// With `keep_shared_sheets`, a sheet thinner than a cell that Θ's own mesh has too is no
+/// difference: neither pass re-samples it, though Θ's isosurface has no sheet. Without it, or
+/// where Θ's mesh has no sheet there, the sheet is a deep difference and goes, as the paper's
+/// grid-resolved topology asks.
+#[test]
+fn shared_sheets_below_the_grid_are_kept_when_asked() {
+    let m = thin_sheet(0.1, Vec3::ZERO);
+    m.validate().unwrap();
+    let other = thin_sheet(0.13, Vec3::new(0.05, -0.04, 0.03));
+    let keep = TopologyOptions {
+        keep_shared_sheets: true,
+        ..TopologyOptions::default()
+    };
+    for (what, theta) in [("Φ(M)", phi(&m)), ("Φ(T)", phi(&other))] {
+        let mut kept = Mesh::from_indexed(&m).unwrap();
+        let report = constrain_topology(&mut kept, &theta, &keep).unwrap();
+        assert!(!report.changed(), "{what}: the shared sheet was re-sampled");
+        assert_eq!(kept.to_indexed().positions, m.positions, "{what}");
+
+        let mut strict = Mesh::from_indexed(&m).unwrap();
+        let report = constrain_topology(&mut strict, &theta, &TopologyOptions::default()).unwrap();
+        assert!(
+            report.changed(),
+            "{what}: the sheet was left without the option"
+        );
+        assert_eq!(strict.vertices().count(), 0, "{what}: Θ holds no sheet");
+    }
+    // A sheet the target does not have is a difference all the same.
+    let elsewhere = thin_sheet(0.1, Vec3::new(0.0, 0.0, 3.0));
+    let mut gone = Mesh::from_indexed(&m).unwrap();
+    constrain_topology(&mut gone, &phi(&elsewhere), &keep).unwrap();
+    assert!(
+        gone.vertices()
+            .all(|v| (gone.position(v).z - 3.5).abs() < 1.0),
+        "a sheet the target lacks was kept"
+    );
+}

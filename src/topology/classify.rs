@@ -38,6 +38,9 @@ pub(crate) struct Strictness {
     pub faces: bool,
     /// Grow the seeds by this many cells in every direction.
     pub dilate: u32,
+    /// A grid edge the mesh crosses as many times as Θ's own mesh did is no difference (see
+    /// `TopologyOptions::keep_shared_sheets`).
+    pub keep_shared: bool,
 }
 
 /// Offsets within L1 distance `d` of the origin.
@@ -70,7 +73,7 @@ pub(crate) fn seeds(grid: &MeshGrid, field: &Field, strictness: &Strictness) -> 
         .map(|(line, m, t)| {
             let crossings = m.map_or(&[][..], |l| grid.crossings.of_line(l));
             let flips = t.map_or(&[][..], |l| field.signs().of_line(l));
-            line_differences(field, line, crossings, flips, depth, &near)
+            line_differences(field, line, crossings, flips, strictness, &near)
         })
         .collect();
     let mut seeds: Vec<Cell> = Vec::new();
@@ -141,9 +144,10 @@ fn line_differences(
     line: GridLine,
     crossings: &[GridCrossing],
     flips: &[i32],
-    depth: u32,
+    strictness: &Strictness,
     near: &[[i32; 3]],
 ) -> (Vec<Cell>, Vec<Corner>) {
+    let depth = strictness.depth;
     let mut seeds = Vec::new();
     let mut at: Vec<i32> = Vec::with_capacity(2 * crossings.len() + 2 * flips.len());
     let mut winding = 0;
@@ -156,8 +160,9 @@ fn line_differences(
             sequence.push(winding);
         }
         at.extend([group[0].along(), group[0].along() + 1]);
+        let shared = strictness.keep_shared && shared_sheet(field, &edge, &sequence);
         if sequence.iter().any(|w| !(0..=1).contains(w))
-            || (group.len() >= 2 && deep_edge(field, &edge, &sequence, depth, near))
+            || (group.len() >= 2 && !shared && deep_edge(field, &edge, &sequence, depth, near))
         {
             seeds.extend(edge.cells());
         }
@@ -227,6 +232,19 @@ fn deep_edge(
     let needs_inside = interior.contains(&1);
     let needs_outside = interior.contains(&0);
     (needs_inside && !present(true)) || (needs_outside && !present(false))
+}
+
+/// Whether the mesh crosses `edge` (with `windings` before, between and after its crossings) as a
+/// sheet thinner than a cell that Θ's own mesh has too: none of the crossings is an overlap, and
+/// Θ's mesh crosses this edge, or one beside it (parallel, one step away), more than once.
+pub(crate) fn shared_sheet(field: &Field, edge: &GridEdge, windings: &[i32]) -> bool {
+    windings.len() > 2
+        && windings.iter().all(|w| (0..=1).contains(w))
+        && ball(1).iter().any(|&o| {
+            field
+                .crossings_of(&GridEdge::new(offset(edge.corner, o), edge.axis()))
+                .is_some()
+        })
 }
 
 /// Cells of the vertices of every mesh component that crosses no grid edge.

@@ -11,6 +11,11 @@
 //! wider margins. When every local attempt fails the whole surface is replaced by Θ's isosurface,
 //! which is closed and manifold by construction — that last step is the guarantee, the local
 //! attempts are what keep re-sampling small.
+//!
+//! With `keep_shared_sheets` (for a caller that matches the input's own topology below the grid
+//! afterwards) a sheet thinner than a cell that Θ's mesh has too is no difference, and a result
+//! is accepted where its topology differs from Θ's only in components holding such a sheet, or in
+//! droplets (`mismatch`).
 
 use std::rc::Rc;
 use std::time::Instant;
@@ -18,7 +23,7 @@ use std::time::Instant;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::build::{Built, build};
-use super::classify::{Strictness, dilate, seeds};
+use super::classify::{Strictness, dilate, seeds, shared_sheet};
 use super::cut::cut;
 use super::face_arcs::Arc;
 use super::field::Field;
@@ -82,6 +87,19 @@ fn resample(
         depth: 0,
         faces: false,
         dilate: 0,
+        keep_shared: options.keep_shared_sheets,
+    };
+    let explained = if options.keep_shared_sheets {
+        shared_sheet_cells(&grid, theta)
+    } else {
+        FxHashSet::default()
+    };
+    // Whether a surface's topology is what this step must give: Θ's, or, keeping shared sheets,
+    // Θ's but where such a sheet makes the difference.
+    let accepted = |mesh: &IndexedMesh| {
+        signature(mesh) == target
+            || (options.keep_shared_sheets
+                && mismatched(theta.frame(), mesh, (&iso, &iso_edges), &explained).is_empty())
     };
     // The components whose topology the previous attempt got wrong, and its seeds.
     let mut focus: Option<(Vec<Cell>, Vec<Cell>)> = None;
@@ -111,9 +129,9 @@ fn resample(
         report.region_cells = region.len();
         report.classify += clock.elapsed();
         if region.is_empty() {
-            if signature(&input) == target {
+            if accepted(&input) {
                 report.kept = input.positions.len();
-                report.euler = target;
+                report.euler = signature(&input);
                 report.total = start.elapsed();
                 return Ok((report, None));
             }
@@ -124,7 +142,7 @@ fn resample(
         let outcome = match attempt_region(&grid, theta, &region, &mut checks) {
             Ok((built, splits)) => {
                 let recorded = record(&grid, &built, &splits, (mesh.next_id(), &old))?;
-                let verdict = verify(&built.mesh, &recorded, &target);
+                let verdict = verify(&built.mesh, &recorded, accepted(&built.mesh));
                 Ok((built, recorded, verdict))
             }
             Err(points) => Err(points),
@@ -145,8 +163,8 @@ fn resample(
                     };
                     report.region = region.iter().copied().collect();
                     report.region.sort_unstable();
+                    report.euler = signature(&built.mesh);
                     let replacement = summarize(surface, recorded, &mut report);
-                    report.euler = target;
                     report.total = start.elapsed();
                     return Ok((report, Some(replacement)));
                 }
@@ -154,7 +172,7 @@ fn resample(
                     report.abandoned.push(Abandoned::Topology);
                     if !focused && steps[step - 1].depth > 0 {
                         let wrong = dilate(
-                            &mismatched(theta.frame(), &built.mesh, (&iso, &iso_edges)),
+                            &mismatched(theta.frame(), &built.mesh, (&iso, &iso_edges), &explained),
                             1,
                         );
                         if !wrong.is_empty() {
@@ -196,12 +214,14 @@ fn ladder(options: &TopologyOptions) -> Vec<Strictness> {
         depth: options.depth,
         faces: false,
         dilate: 0,
+        keep_shared: options.keep_shared_sheets,
     }];
     if options.depth > 0 {
         steps.push(Strictness {
             depth: 0,
             faces: false,
             dilate: 0,
+            keep_shared: options.keep_shared_sheets,
         });
     }
     for dilate in [0, 1, 3] {
@@ -209,6 +229,7 @@ fn ladder(options: &TopologyOptions) -> Vec<Strictness> {
             depth: 0,
             faces: true,
             dilate,
+            keep_shared: options.keep_shared_sheets,
         });
     }
     steps
@@ -255,13 +276,14 @@ enum Failure {
 }
 
 /// The half-edge mesh of a result, with its ids, that is closed, manifold, oriented and
-/// non-degenerate (checked by `Mesh::from_indexed`, once) or empty, and has Θ's topology.
+/// non-degenerate (checked by `Mesh::from_indexed`, once) or empty, and has the topology the step
+/// must give (`topology_accepted`).
 fn verify(
     mesh: &IndexedMesh,
     recorded: &super::record::Recorded,
-    target: &[i64],
+    topology_accepted: bool,
 ) -> Result<Mesh, Failure> {
-    if signature(mesh) != target {
+    if !topology_accepted {
         return Err(Failure::Topology);
     }
     if mesh.triangles.is_empty() {
@@ -282,6 +304,31 @@ fn verify(
             _ => Vec::new(),
         })
     })
+}
+
+/// The cells around every grid edge that the mesh crosses as a sheet Θ's own mesh has too (see
+/// `TopologyOptions::keep_shared_sheets`).
+fn shared_sheet_cells(grid: &MeshGrid, theta: &Field) -> FxHashSet<Cell> {
+    let mut cells = FxHashSet::default();
+    for l in 0..grid.crossings.index().len() {
+        let mut winding = 0;
+        for group in grid
+            .crossings
+            .of_line(l)
+            .chunk_by(|x, y| x.along() == y.along())
+        {
+            let mut windings = vec![winding];
+            for c in group {
+                winding += c.sign();
+                windings.push(winding);
+            }
+            let edge = GridEdge::new(group[0].corner, group[0].axis());
+            if shared_sheet(theta, &edge, &windings) {
+                cells.extend(edge.cells());
+            }
+        }
+    }
+    cells
 }
 
 /// Cells a point lies in or on.
@@ -346,8 +393,10 @@ fn replace_whole(
     };
     let recorded = record(grid, &built, &Default::default(), (mesh.next_id(), old))?;
     let surface =
-        verify(&built.mesh, &recorded, target).map_err(|_| TopologyError::Unresolved {
-            abandoned: report.abandoned.clone(),
+        verify(&built.mesh, &recorded, signature(&built.mesh) == target).map_err(|_| {
+            TopologyError::Unresolved {
+                abandoned: report.abandoned.clone(),
+            }
         })?;
     report.resampling = Resampling::Whole;
     let replacement = summarize(surface, recorded, report);

@@ -32,7 +32,7 @@ impl Field {
         let windings = sweep(backend, &crossings)?;
         let cells = footprint(&lattice, &crossings, &edge_faces(&lattice));
         let band = signed_distance(backend, &lattice, &cells, &windings, PHI_HALF_WIDTH)?;
-        Ok(Field::from_narrow_band(frame, &band, windings))
+        Ok(Field::from_narrow_band(frame, &band, windings).with_sheets(crossings.all()))
     }
 
     /// Θ from a narrow band of signed distances (world units) and, beyond it, the inside/outside

@@ -14,7 +14,7 @@ use rustc_hash::FxHashMap;
 
 use super::TopologyError;
 use super::keys::{Cell, Corner, GridEdge, cell_corner, step};
-use crate::grid::{GridFrame, GridLine, T_MIN, Windings, sample_box};
+use crate::grid::{GridCrossing, GridFrame, GridLine, T_MIN, Windings, sample_box};
 
 /// A voxelized implicit surface on a grid: `value(corner) < 0` inside.
 #[derive(Debug, Clone)]
@@ -22,6 +22,9 @@ pub struct Field {
     frame: GridFrame,
     values: Values,
     signs: SignLines,
+    /// The grid edges that the mesh Θ was sampled from crosses more than once, with how many
+    /// times: sheets, strands and gaps thinner than a cell, which Θ's values cannot hold.
+    sheets: FxHashMap<GridEdge, u32>,
 }
 
 #[derive(Debug, Clone)]
@@ -147,6 +150,7 @@ impl Field {
             frame,
             values: Values::Box { lo, dims, values },
             signs: SignLines::default(),
+            sheets: FxHashMap::default(),
         };
         if !dims.contains(&0) {
             // Every edge from one corner before the box to one past it: beyond the box is outside.
@@ -201,6 +205,7 @@ impl Field {
                 far: far.abs(),
             },
             signs: SignLines::default(),
+            sheets: FxHashMap::default(),
         };
         let signs = match &field.values {
             // A closed mesh's three sweeps agree on every corner, so each line's own runs tell
@@ -263,6 +268,24 @@ impl Field {
     }
 
     /// Whether a corner is inside (`value < 0`; zero and NaN are outside, as in marching cubes).
+    /// Θ that also remembers the grid edges its mesh crosses more than once (see
+    /// [`Field::crossings_of`]); `crossings` are that mesh's crossings of the grid.
+    pub(crate) fn with_sheets(mut self, crossings: &[GridCrossing]) -> Self {
+        let mut counts: FxHashMap<GridEdge, u32> = FxHashMap::default();
+        for c in crossings {
+            *counts.entry(GridEdge::new(c.corner, c.axis())).or_insert(0) += 1;
+        }
+        counts.retain(|_, n| *n >= 2);
+        self.sheets = counts;
+        self
+    }
+
+    /// How many times the mesh Θ was sampled from crosses `edge`, where that is more than once;
+    /// `None` where it is not, or where Θ did not come from a mesh.
+    pub(crate) fn crossings_of(&self, edge: &GridEdge) -> Option<u32> {
+        self.sheets.get(edge).copied()
+    }
+
     pub fn inside(&self, corner: Corner) -> bool {
         self.value(corner) < 0.0
     }

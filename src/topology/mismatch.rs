@@ -18,6 +18,7 @@ pub(crate) fn mismatched(
     frame: &GridFrame,
     result: &IndexedMesh,
     (iso, edges): (&IndexedMesh, &[GridEdge]),
+    explained: &FxHashSet<Cell>,
 ) -> Vec<Cell> {
     let (ours, our_labels) = result.topology_with_labels();
     let (theirs, their_labels) = iso.topology_with_labels();
@@ -60,8 +61,37 @@ pub(crate) fn mismatched(
         }
         near
     };
-    let our_partners = partners(&our_cells, &their_cells, ours.components.len());
-    let their_partners = partners(&their_cells, &our_cells, theirs.components.len());
+    let mut our_partners = partners(&our_cells, &their_cells, ours.components.len());
+    let mut their_partners = partners(&their_cells, &our_cells, theirs.components.len());
+    // A difference the caller knows the cause of (a sheet thinner than a cell that both surfaces
+    // have, which Θ cannot hold) leaves its components, and Θ's next to them, alone; so do
+    // droplets, which the caller matches below the grid too, and which take no part in pairing.
+    let (mut known, mut theirs_known) = (
+        vec![false; ours.components.len()],
+        vec![false; theirs.components.len()],
+    );
+    if !explained.is_empty() {
+        known = small(frame, result, &our_labels, ours.components.len());
+        let droplets = small(frame, iso, &their_labels, theirs.components.len());
+        for (c, labels) in &our_cells {
+            if explained.contains(c) {
+                for &l in labels {
+                    known[l as usize] = true;
+                }
+            }
+        }
+        let our_droplets = small(frame, result, &our_labels, ours.components.len());
+        for near in &mut our_partners {
+            near.retain(|&i| !droplets[i as usize]);
+        }
+        for (i, near) in their_partners.iter_mut().enumerate() {
+            theirs_known[i] = droplets[i]
+                || near
+                    .iter()
+                    .any(|&r| known[r as usize] && !our_droplets[r as usize]);
+            near.retain(|&r| !our_droplets[r as usize]);
+        }
+    }
     let paired = |r: usize| -> Option<usize> {
         let &i = our_partners[r].iter().next()?;
         let i = i as usize;
@@ -78,6 +108,12 @@ pub(crate) fn mismatched(
             theirs_off[i] = false;
         }
     }
+    for (r, off) in ours_off.iter_mut().enumerate() {
+        *off &= !known[r];
+    }
+    for (i, off) in theirs_off.iter_mut().enumerate() {
+        *off &= !theirs_known[i];
+    }
     let mut out: Vec<Cell> = our_cells
         .iter()
         .filter(|(_, labels)| labels.iter().any(|&l| ours_off[l as usize]))
@@ -93,6 +129,24 @@ pub(crate) fn mismatched(
     out
 }
 
+/// Per component (`labels` numbering the vertices of `mesh`), whether its bounding box spans at
+/// most [`DROPLET_CELLS`] cells.
+fn small(frame: &GridFrame, mesh: &IndexedMesh, labels: &[u32], count: usize) -> Vec<bool> {
+    let mut boxes = vec![(glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN)); count];
+    for (p, &l) in mesh.positions.iter().zip(labels) {
+        if let Some(b) = boxes.get_mut(l as usize) {
+            *b = (b.0.min(*p), b.1.max(*p));
+        }
+    }
+    boxes
+        .iter()
+        .map(|(lo, hi)| (*hi - *lo).length() <= DROPLET_CELLS * frame.spacing())
+        .collect()
+}
+
+/// Components whose bounding-box diagonal is at most this many cells are droplets.
+const DROPLET_CELLS: f32 = 4.0;
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -105,6 +159,14 @@ mod tests {
     /// Whether `result` and `iso` mismatch anywhere, and where: `iso`'s vertices are named by the
     /// grid edge along the x axis from the corner below them.
     fn compare(result: &IndexedMesh, iso: &IndexedMesh) -> Vec<Cell> {
+        compare_explained(result, iso, &FxHashSet::default())
+    }
+
+    fn compare_explained(
+        result: &IndexedMesh,
+        iso: &IndexedMesh,
+        explained: &FxHashSet<Cell>,
+    ) -> Vec<Cell> {
         let edges: Vec<GridEdge> = iso
             .positions
             .iter()
@@ -113,7 +175,7 @@ mod tests {
                 axis: 0,
             })
             .collect();
-        mismatched(&frame(), result, (iso, &edges))
+        mismatched(&frame(), result, (iso, &edges), explained)
     }
 
     fn join(a: &IndexedMesh, b: &IndexedMesh) -> IndexedMesh {
@@ -150,5 +212,24 @@ mod tests {
                 .iter()
                 .all(|&p| wrong.binary_search(&cell(p)).is_err())
         );
+    }
+
+    #[test]
+    fn explained_components_and_droplets_are_left_to_the_caller() {
+        // The result has a ball Θ lacks (a sheet Θ cannot hold, say) and a droplet next to a
+        // ball both have: with the ball's cells explained, neither is a mismatch.
+        let ball = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
+        let extra = IndexedMesh::icosphere(Vec3::new(5.0, 0.0, 0.0), 1.0, 3);
+        let droplet = IndexedMesh::icosphere(Vec3::new(1.2, 0.0, 0.0), 0.1, 1);
+        let result = join(&join(&ball, &extra), &droplet);
+        let cell = |p: Vec3| frame().to_grid(p).map(|x| x.floor() as i32);
+        assert!(!compare(&result, &ball).is_empty());
+        let explained: FxHashSet<Cell> = [cell(extra.positions[0])].into_iter().collect();
+        assert!(compare_explained(&result, &ball, &explained).is_empty());
+        // An unexplained ball is still a mismatch, droplet or not.
+        let other: FxHashSet<Cell> = [cell(Vec3::new(-9.0, 0.0, 0.0))].into_iter().collect();
+        let wrong = compare_explained(&result, &ball, &other);
+        assert!(wrong.binary_search(&cell(extra.positions[0])).is_ok());
+        assert!(wrong.binary_search(&cell(droplet.positions[0])).is_err());
     }
 }

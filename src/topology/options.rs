@@ -7,10 +7,20 @@ pub struct TopologyOptions {
     /// every difference. A shallow difference that would leave the topology different from Θ's is
     /// re-sampled anyway: the guarantee does not depend on this value.
     pub depth: u32,
+    /// Keep the sheets, strands and gaps thinner than a cell that the mesh and the mesh Θ was
+    /// sampled from both have (the same grid edge crossed as many times by both), rather than
+    /// re-sampling them to Θ's isosurface, which cannot hold them; components whose topology then
+    /// differs from Θ's only through such a sheet are accepted. For a caller that matches the
+    /// input's own topology below the grid afterwards (see `subgrid`): without it every thin sheet
+    /// of a fluid is cut away by this step and copied back by that one, frame after frame.
+    pub keep_shared_sheets: bool,
 }
 
 impl Default for TopologyOptions {
     fn default() -> Self {
-        Self { depth: 1 }
+        Self {
+            depth: 1,
+            keep_shared_sheets: false,
+        }
     }
 }

@@ -392,7 +392,12 @@ impl Tracker {
         theta: &Field,
     ) -> Result<(bool, Range<usize>), TrackError> {
         let mark = self.mesh.journal_len();
-        let report = constrain_topology(&mut self.mesh, theta, &self.options.topology)
+        // Where the sub-grid match follows, the sheets it would copy back are kept.
+        let options = TopologyOptions {
+            keep_shared_sheets: self.options.fidelity != Fidelity::Grid,
+            ..self.options.topology
+        };
+        let report = constrain_topology(&mut self.mesh, theta, &options)
             .map_err(|e| TrackError::at(frame, e))?;
         Ok((report.changed(), mark..self.mesh.journal_len()))
     }
