@@ -12,11 +12,15 @@ mod assemble;
 mod cholesky;
 mod coarse;
 mod correspond;
+mod cover;
+mod cpu;
 mod energy;
 mod error;
 mod fine;
+mod fine_solve;
 mod flush;
 mod geodesic;
+mod gpu;
 mod graph;
 #[cfg(test)]
 mod jacobian_tests;
@@ -72,7 +76,8 @@ pub fn fine_align(
         bvh,
         max_angle_degrees: options.max_angle_degrees,
     };
-    let (positions, report) = fine::fine(&projector, &surface, &surface.rest, &options.fine)?;
+    let (positions, report) =
+        fine::fine(backend, &projector, &surface, &surface.rest, &options.fine)?;
     Ok((
         positions
             .iter()
@@ -92,8 +97,8 @@ pub enum Target<'a> {
     Tree(&'a Bvh),
 }
 
-/// Deforms `mesh` onto `target`: coarse graph registration, then fine alignment. Projection runs on
-/// `backend`; everything else on the CPU. Vertex ids and connectivity are untouched; only positions
+/// Deforms `mesh` onto `target`: coarse graph registration, then fine alignment. Projection and the
+/// fine stage's solve run on `backend`; everything else on the CPU. Vertex ids and connectivity are untouched; only positions
 /// change.
 ///
 /// A stage that does not converge is reported in the returned [`RegistrationReport`]
@@ -180,6 +185,7 @@ fn finish(
     };
     let surface = coarse.surface();
     let (fine, fine_report) = fine::fine(
+        backend,
         &projector,
         surface,
         &coarse.solver_positions(),

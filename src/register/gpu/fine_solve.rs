@@ -1,0 +1,303 @@
+//! GPU host of the fine stage's solve: the kernels of `register::fine_solve` in its order, with
+//! every vector and matrix resident on the device for the whole stage.
+//!
+//! The stage's fixed parts (start positions, adjacency and edge directions, cover pairs) and the
+//! displacements are uploaded once; each round uploads its correspondences and reads back the
+//! solution. In between, nothing but the 48-byte [`CgState`] crosses: the iterations are submitted
+//! in batches of [`ITERATIONS_PER_BATCH`], the state is read after each batch, and the kernels of
+//! iterations past the solve's end do nothing (they test `done`), so the device stops exactly where
+//! the CPU twin's loop does.
+
+use glam::{DMat3, DVec3};
+
+use crate::compute::{Batch, ComputeError, GpuContext};
+use crate::kernels::shared::{
+    CgState, FineTarget, PHASE_ALPHA, PHASE_BEGIN, PHASE_BETA, PHASE_NORM,
+};
+use crate::kernels::{
+    FINE_APPLY, FINE_COVER, FINE_DIRECTION, FINE_REDUCE, FINE_SCALARS, FINE_START, FINE_SYSTEM,
+    FINE_UPDATE,
+};
+use crate::register::fine_solve::FineSystem;
+
+/// Iterations submitted between two reads of the state. Each read waits for the device; the
+/// iterations submitted past the end cost one early return per invocation.
+const ITERATIONS_PER_BATCH: u32 = 8;
+
+/// One stage's buffers on the device.
+#[derive(Debug)]
+pub struct GpuFineSolve {
+    params: wgpu::Buffer,
+    state: wgpu::Buffer,
+    phases: [wgpu::Buffer; 4],
+    start: wgpu::Buffer,
+    targets: wgpu::Buffer,
+    offsets: wgpu::Buffer,
+    neighbours: wgpu::Buffer,
+    directions: wgpu::Buffer,
+    cover: CoverBuffers,
+    fit: wgpu::Buffer,
+    b: wgpu::Buffer,
+    preconditioner: wgpu::Buffer,
+    terms: wgpu::Buffer,
+    partials: wgpu::Buffer,
+    ad: wgpu::Buffer,
+    d: wgpu::Buffer,
+    r: wgpu::Buffer,
+    z: wgpu::Buffer,
+    p: wgpu::Buffer,
+    vertices: usize,
+    pairs: u64,
+    chunks: u64,
+    max_iterations: u32,
+}
+
+#[derive(Debug)]
+struct CoverBuffers {
+    corners: wgpu::Buffer,
+    weights: wgpu::Buffer,
+    matrices: wgpu::Buffer,
+    pulls: wgpu::Buffer,
+    offsets: wgpu::Buffer,
+    entries: wgpu::Buffer,
+    moved: wgpu::Buffer,
+}
+
+/// `data`, or one zeroed element where it is empty: a binding cannot be empty, and the kernels
+/// read no element past the counts in their parameters.
+fn at_least_one<T: bytemuck::Pod + bytemuck::Zeroable>(data: &[T]) -> Vec<T> {
+    if data.is_empty() {
+        vec![T::zeroed()]
+    } else {
+        data.to_vec()
+    }
+}
+
+impl GpuFineSolve {
+    /// Uploads the stage's fixed parts and its starting displacements `d`.
+    pub fn upload(
+        context: &GpuContext,
+        system: &FineSystem,
+        d: &[DVec3],
+    ) -> Result<Self, ComputeError> {
+        let n = system.len();
+        let cover = &system.cover;
+        let chunks = system.params.chunks as usize;
+        Ok(Self {
+            params: context.upload("fine params", &[system.params])?,
+            state: context.upload("fine state", &[CgState::default()])?,
+            phases: [
+                context.upload("phase", &[PHASE_NORM])?,
+                context.upload("phase", &[PHASE_BEGIN])?,
+                context.upload("phase", &[PHASE_ALPHA])?,
+                context.upload("phase", &[PHASE_BETA])?,
+            ],
+            start: context.upload("fine start", &at_least_one(system.start))?,
+            targets: context.output::<FineTarget>("fine targets", n.max(1))?,
+            offsets: context.upload("fine offsets", system.adjacency.offsets())?,
+            neighbours: context.upload(
+                "fine neighbours",
+                &at_least_one(system.adjacency.all_neighbours()),
+            )?,
+            directions: context.upload("fine directions", &at_least_one(&system.directions))?,
+            cover: CoverBuffers {
+                corners: context.upload("cover corners", &at_least_one(&cover.corners))?,
+                weights: context.upload("cover weights", &at_least_one(&cover.weights))?,
+                matrices: context.upload("cover matrices", &at_least_one(&cover.matrices))?,
+                pulls: context.upload("cover pulls", &at_least_one(&cover.pulls))?,
+                offsets: context.upload("cover offsets", &cover_offsets(cover, n))?,
+                entries: context.upload("cover entries", &at_least_one(&cover.entries))?,
+                moved: context.output::<DVec3>("cover moved", cover.len().max(1))?,
+            },
+            fit: context.output::<DMat3>("fine fit", n.max(1))?,
+            b: context.output::<DVec3>("fine b", n.max(1))?,
+            preconditioner: context.output::<DMat3>("fine preconditioner", n.max(1))?,
+            terms: context.output::<[f64; 2]>("fine terms", n.max(1))?,
+            partials: context.output::<[f64; 2]>("fine partials", chunks.max(1))?,
+            ad: context.output::<DVec3>("fine ad", n.max(1))?,
+            d: context.upload("fine d", &at_least_one(d))?,
+            r: context.output::<DVec3>("fine r", n.max(1))?,
+            z: context.output::<DVec3>("fine z", n.max(1))?,
+            p: context.output::<DVec3>("fine p", n.max(1))?,
+            vertices: n,
+            pairs: u64::from(system.params.pairs),
+            chunks: chunks as u64,
+            max_iterations: system.params.max_iterations,
+        })
+    }
+
+    /// One solve for the correspondences `targets` from the displacements on the device: the final
+    /// state and the solution, which stays on the device for the next round.
+    pub fn solve(
+        &self,
+        context: &GpuContext,
+        targets: &[FineTarget],
+    ) -> Result<(CgState, Vec<DVec3>), ComputeError> {
+        if self.vertices == 0 {
+            return Ok((CgState::default(), Vec::new()));
+        }
+        context.write(&self.targets, targets)?;
+        let mut batch = context.batch();
+        self.start_solve(&mut batch)?;
+        // Every batch ends the solve or spends ITERATIONS_PER_BATCH of its iterations.
+        let batches = self.max_iterations / ITERATIONS_PER_BATCH + 2;
+        let mut state = None;
+        for _ in 0..batches {
+            for _ in 0..ITERATIONS_PER_BATCH {
+                self.iterate(&mut batch)?;
+            }
+            batch.submit()?;
+            let now = context.read_back::<CgState>(&self.state, 1)?;
+            if now.first().is_some_and(|s| s.done != 0) {
+                state = now.first().copied();
+                break;
+            }
+            batch = context.batch();
+        }
+        let state = state.ok_or_else(|| {
+            ComputeError::Gpu(format!(
+                "the fine stage's solve did not end within {} iterations",
+                batches * ITERATIONS_PER_BATCH
+            ))
+        })?;
+        Ok((state, context.read_back::<DVec3>(&self.d, self.vertices)?))
+    }
+
+    /// The system, its norm, and the first residual and direction from `d`.
+    fn start_solve(&self, batch: &mut Batch) -> Result<(), ComputeError> {
+        let c = &self.cover;
+        let n = self.vertices as u64;
+        batch.dispatch(
+            &FINE_SYSTEM,
+            &[
+                &self.params,
+                &self.start,
+                &self.targets,
+                &self.offsets,
+                &self.directions,
+                &c.offsets,
+                &c.entries,
+                &c.weights,
+                &c.matrices,
+                &c.pulls,
+                &self.fit,
+                &self.b,
+                &self.preconditioner,
+                &self.terms,
+            ],
+            n,
+        )?;
+        self.reduce(batch, PHASE_NORM)?;
+        self.apply(batch, &self.d)?;
+        batch.dispatch(
+            &FINE_START,
+            &[
+                &self.params,
+                &self.state,
+                &self.b,
+                &self.preconditioner,
+                &self.ad,
+                &self.d,
+                &self.r,
+                &self.z,
+                &self.p,
+                &self.terms,
+            ],
+            n,
+        )?;
+        self.reduce(batch, PHASE_BEGIN)
+    }
+
+    /// One iteration: `A p`, α, the step, β and the next direction.
+    fn iterate(&self, batch: &mut Batch) -> Result<(), ComputeError> {
+        let n = self.vertices as u64;
+        self.apply(batch, &self.p)?;
+        self.reduce(batch, PHASE_ALPHA)?;
+        batch.dispatch(
+            &FINE_UPDATE,
+            &[
+                &self.params,
+                &self.state,
+                &self.p,
+                &self.ad,
+                &self.preconditioner,
+                &self.d,
+                &self.r,
+                &self.z,
+                &self.terms,
+            ],
+            n,
+        )?;
+        self.reduce(batch, PHASE_BETA)?;
+        batch.dispatch(
+            &FINE_DIRECTION,
+            &[&self.params, &self.state, &self.z, &self.p],
+            n,
+        )
+    }
+
+    /// `ad = A x` with its terms `x_v·(A x)_v`.
+    fn apply(&self, batch: &mut Batch, x: &wgpu::Buffer) -> Result<(), ComputeError> {
+        let c = &self.cover;
+        batch.dispatch(
+            &FINE_COVER,
+            &[
+                &self.params,
+                &self.state,
+                &c.corners,
+                &c.weights,
+                &c.matrices,
+                x,
+                &c.moved,
+            ],
+            self.pairs,
+        )?;
+        batch.dispatch(
+            &FINE_APPLY,
+            &[
+                &self.params,
+                &self.state,
+                &self.fit,
+                &self.offsets,
+                &self.neighbours,
+                &self.directions,
+                &c.offsets,
+                &c.entries,
+                &c.weights,
+                &c.moved,
+                x,
+                &self.ad,
+                &self.terms,
+            ],
+            self.vertices as u64,
+        )
+    }
+
+    /// The terms' sums, then the scalars of `phase`.
+    fn reduce(&self, batch: &mut Batch, phase: u32) -> Result<(), ComputeError> {
+        batch.dispatch(
+            &FINE_REDUCE,
+            &[&self.params, &self.terms, &self.partials],
+            self.chunks,
+        )?;
+        batch.dispatch(
+            &FINE_SCALARS,
+            &[
+                &self.params,
+                &self.phases[phase as usize],
+                &self.partials,
+                &self.state,
+            ],
+            1,
+        )
+    }
+}
+
+/// The cover's row offsets, all zero where the term is empty.
+fn cover_offsets(cover: &crate::register::cover::Cover, vertices: usize) -> Vec<u32> {
+    if cover.offsets.is_empty() {
+        vec![0; vertices + 1]
+    } else {
+        cover.offsets.clone()
+    }
+}
