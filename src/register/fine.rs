@@ -101,7 +101,7 @@ pub fn fine(
             })
             .collect();
         let energy_before = energy(&system, &d, &found) + system.cover.energy(&d);
-        let solve = solver.solve(backend, &system, &fine_targets, &mut d, options)?;
+        let solve = solver.solve(&system, &fine_targets, &mut d, options)?;
         let energy = energy(&system, &d, &found) + system.cover.energy(&d);
         let kept = found.iter().filter(|c| c.is_some()).count();
         report.converged &= solve.converged;

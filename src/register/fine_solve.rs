@@ -16,6 +16,8 @@
 //! Where the device has no f64 arithmetic (`GpuContext::has_f64`), the GPU backend runs this stage
 //! on the CPU, and says so in its description.
 
+use std::sync::Arc;
+
 use glam::{DMat3, DVec3};
 use rayon::prelude::*;
 
@@ -33,7 +35,7 @@ use super::cpu::fine_update::fine_update;
 use super::gpu::GpuFineSolve;
 use super::model::CHUNK;
 use super::options::FineOptions;
-use crate::compute::{Backend, kernel_time};
+use crate::compute::{Backend, GpuContext, kernel_time};
 use crate::kernels::shared::{
     CgState, FineParams, FineTarget, PHASE_ALPHA, PHASE_BEGIN, PHASE_BETA, PHASE_NORM, REDUCE_CHUNK,
 };
@@ -130,11 +132,23 @@ impl<'a> FineSystem<'a> {
     }
 }
 
-/// Where the solves of one stage run: the CPU twins, or the kernels with the stage's buffers
-/// uploaded once.
+/// The vector the fine system's matrix is applied to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Operand {
+    /// The displacements, for the starting residual.
+    D,
+    /// The search direction, in every iteration.
+    P,
+}
+
+/// Where the solves of one stage run: the CPU twins or the kernels, each with the stage's buffers
+/// made (and on the GPU uploaded) once.
 pub enum FineSolver {
-    Cpu,
-    Gpu(Box<GpuFineSolve>),
+    Cpu(Box<CpuFineSolve>),
+    Gpu {
+        solve: Box<GpuFineSolve>,
+        context: Arc<GpuContext>,
+    },
 }
 
 impl FineSolver {
@@ -142,83 +156,171 @@ impl FineSolver {
     /// twins. `d` is the stage's starting displacement.
     pub fn new(backend: &Backend, system: &FineSystem, d: &[DVec3]) -> Result<Self, RegisterError> {
         Ok(match backend.gpu() {
-            Some(context) if context.has_f64() => Self::Gpu(Box::new(kernel_time::timed(|| {
-                GpuFineSolve::upload(context, system, d)
-            })?)),
-            _ => Self::Cpu,
+            Some(context) if context.has_f64() => Self::Gpu {
+                solve: Box::new(kernel_time::timed(|| {
+                    GpuFineSolve::upload(context, system, d)
+                })?),
+                context: Arc::clone(context),
+            },
+            _ => Self::Cpu(Box::new(CpuFineSolve::new(system, d))),
         })
     }
 
-    /// Solves for the correspondences `targets` from the displacements `d` (the last solve's,
-    /// which on the GPU are already on the device), leaving the solution in `d`.
+    /// Solves for the correspondences `targets` from the last solve's displacements (the stage's
+    /// start for the first), and copies the solution into `d`.
     pub fn solve(
         &mut self,
-        backend: &Backend,
         system: &FineSystem,
         targets: &[FineTarget],
         d: &mut [DVec3],
         options: &FineOptions,
     ) -> Result<Solve, RegisterError> {
-        kernel_time::timed(|| match (self, backend.gpu()) {
-            (Self::Gpu(solve), Some(context)) => {
-                let (state, solution) = solve.solve(context, targets)?;
-                d.copy_from_slice(&solution);
-                Ok(Solve::of(&state, options))
-            }
-            _ => Ok(Solve::of(&solve_cpu(system, targets, d), options)),
+        kernel_time::timed(|| {
+            let state = match self {
+                Self::Gpu { solve, context } => {
+                    let (state, solution) = solve.solve(context, targets)?;
+                    d.copy_from_slice(&solution);
+                    state
+                }
+                Self::Cpu(solve) => {
+                    let state = solve.solve(system, targets);
+                    d.copy_from_slice(&solve.d);
+                    state
+                }
+            };
+            Ok::<_, RegisterError>(Solve::of(&state, options))
         })
     }
 }
 
-/// The kernels' sequence on the CPU twins.
-fn solve_cpu(system: &FineSystem, targets: &[FineTarget], d: &mut [DVec3]) -> CgState {
-    let n = system.len();
-    let params = &system.params;
-    let mut fit = vec![DMat3::ZERO; n];
-    let mut b = vec![DVec3::ZERO; n];
-    let mut preconditioner = vec![DMat3::ZERO; n];
-    let mut terms = vec![[0.0; 2]; n];
-    let mut partials = vec![[0.0; 2]; params.chunks as usize];
-    let mut moved = vec![DVec3::ZERO; system.cover.len()];
-    let mut ad = vec![DVec3::ZERO; n];
-    let (mut r, mut z, mut p) = (ad.clone(), ad.clone(), ad.clone());
-    let mut state = CgState::default();
-    fine_system(
-        system,
-        targets,
-        &mut fit,
-        &mut b,
-        &mut preconditioner,
-        &mut terms,
-    );
-    fine_reduce(&terms, &mut partials);
-    fine_scalars(params, PHASE_NORM, &partials, &mut state);
-    fine_cover(&state, &system.cover, d, &mut moved);
-    fine_apply(system, &state, &fit, &moved, d, &mut ad, &mut terms);
-    let iterates = Iterates {
-        d: &mut *d,
-        r: &mut r,
-        z: &mut z,
-        p: &mut p,
-    };
-    fine_start(&state, &b, &preconditioner, &ad, iterates, &mut terms);
-    fine_reduce(&terms, &mut partials);
-    fine_scalars(params, PHASE_BEGIN, &partials, &mut state);
-    while state.done == 0 {
-        fine_cover(&state, &system.cover, &p, &mut moved);
-        fine_apply(system, &state, &fit, &moved, &p, &mut ad, &mut terms);
-        fine_reduce(&terms, &mut partials);
-        fine_scalars(params, PHASE_ALPHA, &partials, &mut state);
-        let iterates = Iterates {
-            d: &mut *d,
-            r: &mut r,
-            z: &mut z,
-            p: &mut p,
-        };
-        fine_update(&state, &ad, &preconditioner, iterates, &mut terms);
-        fine_reduce(&terms, &mut partials);
-        fine_scalars(params, PHASE_BETA, &partials, &mut state);
-        fine_direction(&state, &z, &mut p);
+/// The CPU twins' buffers, the same the GPU path keeps on the device, and the kernels' sequence
+/// over them: one method per dispatch (or pair of dispatches) of [`GpuFineSolve`].
+#[derive(Debug, Clone)]
+pub struct CpuFineSolve {
+    pub fit: Vec<DMat3>,
+    pub b: Vec<DVec3>,
+    pub preconditioner: Vec<DMat3>,
+    pub terms: Vec<[f64; 2]>,
+    pub partials: Vec<[f64; 2]>,
+    pub moved: Vec<DVec3>,
+    pub ad: Vec<DVec3>,
+    pub d: Vec<DVec3>,
+    pub r: Vec<DVec3>,
+    pub z: Vec<DVec3>,
+    pub p: Vec<DVec3>,
+    pub state: CgState,
+}
+
+impl CpuFineSolve {
+    /// Buffers for `system` with displacements `d`.
+    pub fn new(system: &FineSystem, d: &[DVec3]) -> Self {
+        let n = system.len();
+        Self {
+            fit: vec![DMat3::ZERO; n],
+            b: vec![DVec3::ZERO; n],
+            preconditioner: vec![DMat3::ZERO; n],
+            terms: vec![[0.0; 2]; n],
+            partials: vec![[0.0; 2]; system.params.chunks as usize],
+            moved: vec![DVec3::ZERO; system.cover.len()],
+            ad: vec![DVec3::ZERO; n],
+            d: d.to_vec(),
+            r: vec![DVec3::ZERO; n],
+            z: vec![DVec3::ZERO; n],
+            p: vec![DVec3::ZERO; n],
+            state: CgState::default(),
+        }
     }
-    state
+
+    /// One solve from the displacements in `self.d`; returns the final state.
+    fn solve(&mut self, system: &FineSystem, targets: &[FineTarget]) -> CgState {
+        self.system(system, targets);
+        self.reduce(system, PHASE_NORM);
+        self.apply(system, Operand::D);
+        self.start();
+        self.reduce(system, PHASE_BEGIN);
+        while self.state.done == 0 {
+            self.apply(system, Operand::P);
+            self.reduce(system, PHASE_ALPHA);
+            self.update();
+            self.reduce(system, PHASE_BETA);
+            self.direction();
+        }
+        self.state
+    }
+
+    /// `fine_system`.
+    pub fn system(&mut self, system: &FineSystem, targets: &[FineTarget]) {
+        fine_system(
+            system,
+            targets,
+            &mut self.fit,
+            &mut self.b,
+            &mut self.preconditioner,
+            &mut self.terms,
+        );
+    }
+
+    /// `fine_reduce`, then `fine_scalars` in `phase`.
+    pub fn reduce(&mut self, system: &FineSystem, phase: u32) {
+        fine_reduce(&self.terms, &mut self.partials);
+        fine_scalars(&system.params, phase, &self.partials, &mut self.state);
+    }
+
+    /// `fine_cover` and `fine_apply`: `ad = A x`.
+    pub fn apply(&mut self, system: &FineSystem, operand: Operand) {
+        let x = match operand {
+            Operand::D => &self.d,
+            Operand::P => &self.p,
+        };
+        fine_cover(&self.state, &system.cover, x, &mut self.moved);
+        fine_apply(
+            system,
+            &self.state,
+            &self.fit,
+            &self.moved,
+            x,
+            &mut self.ad,
+            &mut self.terms,
+        );
+    }
+
+    /// `fine_start`.
+    pub fn start(&mut self) {
+        let iterates = Iterates {
+            d: &mut self.d,
+            r: &mut self.r,
+            z: &mut self.z,
+            p: &mut self.p,
+        };
+        fine_start(
+            &self.state,
+            &self.b,
+            &self.preconditioner,
+            &self.ad,
+            iterates,
+            &mut self.terms,
+        );
+    }
+
+    /// `fine_update`.
+    pub fn update(&mut self) {
+        let iterates = Iterates {
+            d: &mut self.d,
+            r: &mut self.r,
+            z: &mut self.z,
+            p: &mut self.p,
+        };
+        fine_update(
+            &self.state,
+            &self.ad,
+            &self.preconditioner,
+            iterates,
+            &mut self.terms,
+        );
+    }
+
+    /// `fine_direction`.
+    pub fn direction(&mut self) {
+        fine_direction(&self.state, &self.z, &mut self.p);
+    }
 }

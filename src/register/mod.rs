@@ -17,6 +17,8 @@ mod cpu;
 mod energy;
 mod error;
 mod fine;
+#[cfg(test)]
+mod fine_parity;
 mod fine_solve;
 mod flush;
 mod geodesic;

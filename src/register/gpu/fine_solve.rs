@@ -18,7 +18,9 @@ use crate::kernels::{
     FINE_APPLY, FINE_COVER, FINE_DIRECTION, FINE_REDUCE, FINE_SCALARS, FINE_START, FINE_SYSTEM,
     FINE_UPDATE,
 };
-use crate::register::fine_solve::FineSystem;
+#[cfg(test)]
+use crate::register::fine_solve::CpuFineSolve;
+use crate::register::fine_solve::{FineSystem, Operand};
 
 /// Iterations submitted between two reads of the state. Each read waits for the device; the
 /// iterations submitted past the end cost one early return per invocation.
@@ -136,15 +138,23 @@ impl GpuFineSolve {
         if self.vertices == 0 {
             return Ok((CgState::default(), Vec::new()));
         }
-        context.write(&self.targets, targets)?;
+        self.write_targets(context, targets)?;
         let mut batch = context.batch();
-        self.start_solve(&mut batch)?;
+        self.system(&mut batch)?;
+        self.reduce(&mut batch, PHASE_NORM)?;
+        self.apply(&mut batch, Operand::D)?;
+        self.start(&mut batch)?;
+        self.reduce(&mut batch, PHASE_BEGIN)?;
         // Every batch ends the solve or spends ITERATIONS_PER_BATCH of its iterations.
         let batches = self.max_iterations / ITERATIONS_PER_BATCH + 2;
         let mut state = None;
         for _ in 0..batches {
             for _ in 0..ITERATIONS_PER_BATCH {
-                self.iterate(&mut batch)?;
+                self.apply(&mut batch, Operand::P)?;
+                self.reduce(&mut batch, PHASE_ALPHA)?;
+                self.update(&mut batch)?;
+                self.reduce(&mut batch, PHASE_BETA)?;
+                self.direction(&mut batch)?;
             }
             batch.submit()?;
             let now = context.read_back::<CgState>(&self.state, 1)?;
@@ -163,10 +173,25 @@ impl GpuFineSolve {
         Ok((state, context.read_back::<DVec3>(&self.d, self.vertices)?))
     }
 
-    /// The system, its norm, and the first residual and direction from `d`.
-    fn start_solve(&self, batch: &mut Batch) -> Result<(), ComputeError> {
+    /// Replaces the correspondences on the device.
+    pub fn write_targets(
+        &self,
+        context: &GpuContext,
+        targets: &[FineTarget],
+    ) -> Result<(), ComputeError> {
+        if targets.len() != self.vertices {
+            return Err(ComputeError::Gpu(format!(
+                "{} fine-stage targets for {} vertices",
+                targets.len(),
+                self.vertices
+            )));
+        }
+        context.write(&self.targets, targets)
+    }
+
+    /// `fine_system`.
+    pub fn system(&self, batch: &mut Batch) -> Result<(), ComputeError> {
         let c = &self.cover;
-        let n = self.vertices as u64;
         batch.dispatch(
             &FINE_SYSTEM,
             &[
@@ -185,10 +210,12 @@ impl GpuFineSolve {
                 &self.preconditioner,
                 &self.terms,
             ],
-            n,
-        )?;
-        self.reduce(batch, PHASE_NORM)?;
-        self.apply(batch, &self.d)?;
+            self.vertices as u64,
+        )
+    }
+
+    /// `fine_start`.
+    pub fn start(&self, batch: &mut Batch) -> Result<(), ComputeError> {
         batch.dispatch(
             &FINE_START,
             &[
@@ -203,16 +230,12 @@ impl GpuFineSolve {
                 &self.p,
                 &self.terms,
             ],
-            n,
-        )?;
-        self.reduce(batch, PHASE_BEGIN)
+            self.vertices as u64,
+        )
     }
 
-    /// One iteration: `A p`, α, the step, β and the next direction.
-    fn iterate(&self, batch: &mut Batch) -> Result<(), ComputeError> {
-        let n = self.vertices as u64;
-        self.apply(batch, &self.p)?;
-        self.reduce(batch, PHASE_ALPHA)?;
+    /// `fine_update`.
+    pub fn update(&self, batch: &mut Batch) -> Result<(), ComputeError> {
         batch.dispatch(
             &FINE_UPDATE,
             &[
@@ -226,19 +249,26 @@ impl GpuFineSolve {
                 &self.z,
                 &self.terms,
             ],
-            n,
-        )?;
-        self.reduce(batch, PHASE_BETA)?;
-        batch.dispatch(
-            &FINE_DIRECTION,
-            &[&self.params, &self.state, &self.z, &self.p],
-            n,
+            self.vertices as u64,
         )
     }
 
-    /// `ad = A x` with its terms `x_v·(A x)_v`.
-    fn apply(&self, batch: &mut Batch, x: &wgpu::Buffer) -> Result<(), ComputeError> {
+    /// `fine_direction`.
+    pub fn direction(&self, batch: &mut Batch) -> Result<(), ComputeError> {
+        batch.dispatch(
+            &FINE_DIRECTION,
+            &[&self.params, &self.state, &self.z, &self.p],
+            self.vertices as u64,
+        )
+    }
+
+    /// `fine_cover` and `fine_apply`: `ad = A x`.
+    pub fn apply(&self, batch: &mut Batch, operand: Operand) -> Result<(), ComputeError> {
         let c = &self.cover;
+        let x = match operand {
+            Operand::D => &self.d,
+            Operand::P => &self.p,
+        };
         batch.dispatch(
             &FINE_COVER,
             &[
@@ -273,8 +303,8 @@ impl GpuFineSolve {
         )
     }
 
-    /// The terms' sums, then the scalars of `phase`.
-    fn reduce(&self, batch: &mut Batch, phase: u32) -> Result<(), ComputeError> {
+    /// `fine_reduce`, then `fine_scalars` in `phase`.
+    pub fn reduce(&self, batch: &mut Batch, phase: u32) -> Result<(), ComputeError> {
         batch.dispatch(
             &FINE_REDUCE,
             &[&self.params, &self.terms, &self.partials],
@@ -290,6 +320,27 @@ impl GpuFineSolve {
             ],
             1,
         )
+    }
+
+    /// Everything on the device, read back into the CPU twins' buffers (parity tests compare them).
+    #[cfg(test)]
+    pub fn read_all(&self, context: &GpuContext) -> Result<CpuFineSolve, ComputeError> {
+        let n = self.vertices;
+        let state = context.read_back::<CgState>(&self.state, 1)?;
+        Ok(CpuFineSolve {
+            fit: context.read_back(&self.fit, n)?,
+            b: context.read_back(&self.b, n)?,
+            preconditioner: context.read_back(&self.preconditioner, n)?,
+            terms: context.read_back(&self.terms, n)?,
+            partials: context.read_back(&self.partials, self.chunks as usize)?,
+            moved: context.read_back(&self.cover.moved, self.pairs as usize)?,
+            ad: context.read_back(&self.ad, n)?,
+            d: context.read_back(&self.d, n)?,
+            r: context.read_back(&self.r, n)?,
+            z: context.read_back(&self.z, n)?,
+            p: context.read_back(&self.p, n)?,
+            state: state.first().copied().unwrap_or_default(),
+        })
     }
 }
 
