@@ -57,9 +57,9 @@ use crate::project::{Bvh, ProjectError};
 use correspond::Projector;
 
 /// The fine stage alone: per-vertex displacements moving `source` onto the target behind `bvh`
-/// (projection on `backend`). Returns the new positions of `source`'s vertices. [`register`] runs it
-/// after the coarse stage; alone it is regularized projection, for meshes already close to the
-/// target.
+/// (projection and the solves on `backend`). Returns the new positions of `source`'s vertices.
+/// [`register`] runs it after the coarse stage; alone it is regularized projection, for meshes
+/// already close to the target.
 pub fn fine_align(
     backend: &Backend,
     bvh: &Bvh,
