@@ -275,3 +275,75 @@ fn every_kernel_matches_its_twin(backend: &Backend) {
 fn every_fine_kernel_matches_its_cpu_twin_gpu() {
     run_on_gpu(every_kernel_matches_its_twin);
 }
+
+/// Whole solves as the stage runs them (the device's in batches of iterations, its kernels idle
+/// past the end), two rounds, the second warm-started from the first: the same iteration counts and ends
+/// as the twins' at limits that end a solve before, inside and after the first batch, and without
+/// any iteration; and `b = 0` (no correspondences, no cover) gives `d = 0` on both.
+fn whole_solves_end_where_the_twins_do(backend: &Backend) {
+    let Some(context) = backend.gpu().filter(|c| c.has_f64()) else {
+        eprintln!("skipping: {backend} has no f64 shaders; the fine stage runs on the CPU there");
+        return;
+    };
+    for (max_iterations, empty) in [
+        (0, false),
+        (3, false),
+        (11, false),
+        (200, false),
+        (200, true),
+    ] {
+        let case = Case::new();
+        let options = FineOptions {
+            max_cg_iterations: max_iterations,
+            ..FineOptions::default()
+        };
+        let (cover, targets) = if empty {
+            (
+                Cover::default(),
+                vec![FineTarget::default(); case.targets.len()],
+            )
+        } else {
+            (case.cover, case.targets)
+        };
+        let what = format!("max {max_iterations} iterations, empty {empty}");
+        let system =
+            FineSystem::new(&case.surface.adjacency, &case.surface.rest, cover, &options).unwrap();
+        let gpu = GpuFineSolve::upload(context, &system, &case.d).unwrap();
+        let mut cpu = CpuFineSolve::new(&system, &case.d);
+        for round in 0..2 {
+            // The second round's targets lie a little farther out, so its warm start still iterates.
+            let targets: Vec<FineTarget> = targets
+                .iter()
+                .map(|&t| {
+                    let mut moved = t;
+                    moved.point = t.point.map(|x| x * (1.0 + 0.05 * round as f64));
+                    moved
+                })
+                .collect();
+            let (gpu_state, gpu_d) = gpu.solve(context, &targets).unwrap();
+            let cpu_state = cpu.solve(&system, &targets);
+            assert_eq!(
+                (gpu_state.iterations, gpu_state.done),
+                (cpu_state.iterations, cpu_state.done),
+                "{what}, round {round}"
+            );
+            // The case needs about 40 iterations: small limits are reached, the default is not.
+            let iterations = match (empty, max_iterations) {
+                (true, _) => 0,
+                (false, max) if max < 20 => max as u32,
+                (false, _) => cpu_state.iterations.clamp(1, max_iterations as u32 - 1),
+            };
+            assert_eq!(cpu_state.iterations, iterations, "{what}, round {round}");
+            ParityReport::gpu_vs_cpu(&format!("{what}, round {round}: d"), &gpu_d, &cpu.d)
+                .assert_max_abs_lt(TOLERANCE);
+            if empty {
+                assert!(cpu.d.iter().all(|d| *d == DVec3::ZERO), "{what}: d = 0");
+            }
+        }
+    }
+}
+
+#[test]
+fn whole_solves_end_where_the_twins_do_gpu() {
+    run_on_gpu(whole_solves_end_where_the_twins_do);
+}

@@ -232,7 +232,7 @@ impl CpuFineSolve {
     }
 
     /// One solve from the displacements in `self.d`; returns the final state.
-    fn solve(&mut self, system: &FineSystem, targets: &[FineTarget]) -> CgState {
+    pub fn solve(&mut self, system: &FineSystem, targets: &[FineTarget]) -> CgState {
         self.system(system, targets);
         self.reduce(system, PHASE_NORM);
         self.apply(system, Operand::D);
