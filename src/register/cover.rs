@@ -35,11 +35,11 @@ impl Cover {
         start: &[DVec3],
         options: &FineOptions,
     ) -> Result<Self, RegisterError> {
-        let too_many = RegisterError::CoverTooLarge {
-            pairs: pairs.hits.len(),
-        };
         if pairs.hits.len() > (u32::MAX >> 2) as usize / 3 {
-            return Err(too_many);
+            return Err(RegisterError::TooLarge {
+                what: "cover pairs",
+                count: pairs.hits.len(),
+            });
         }
         let triangles = surface.faces.triangles();
         let scale = options.cover_weight * start.len() as f64 / pairs.samples.max(1) as f64;

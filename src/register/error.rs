@@ -26,8 +26,8 @@ pub enum RegisterError {
     },
     #[error("correspondence search failed: {0}")]
     Correspondence(#[source] ProjectError),
-    #[error("the fine stage's cover term has {pairs} pairs, more than its 32-bit indices hold")]
-    CoverTooLarge { pairs: usize },
+    #[error("the fine stage's {what} ({count}) are more than its 32-bit indices hold")]
+    TooLarge { what: &'static str, count: usize },
     #[error("the fine stage failed on the GPU: {0}")]
     Compute(#[from] ComputeError),
     #[error("sparse factorization failed: {0}")]

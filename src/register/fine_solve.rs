@@ -11,7 +11,11 @@
 //! differently: by fusing a multiply and an add, or in `sqrt` and division, which Vulkan lets a
 //! driver compute to a few ulps. The solve's discrete decisions — when it stops, which
 //! preconditioner blocks are singular — are taken by the same comparisons on both; they can
-//! differ only where a value lies within such rounding of its threshold.
+//! differ only where a value lies within such rounding of its threshold. The stage's next round
+//! casts its correspondences from `start + d` rounded to f32, so a `d` that differs in its last
+//! bits changes them only where a position rounds to a different f32 and that moves a ray across
+//! a pruning threshold (on the synth scenes tracked on lavapipe, never: frames and events are
+//! byte-identical to the CPU's).
 //!
 //! Where the device has no f64 arithmetic (`GpuContext::has_f64`), the GPU backend runs this stage
 //! on the CPU, and says so in its description.
@@ -86,18 +90,20 @@ impl<'a> FineSystem<'a> {
         cover: Cover,
         options: &FineOptions,
     ) -> Result<Self, RegisterError> {
-        let too_large = RegisterError::CoverTooLarge { pairs: cover.len() };
-        let count = |n: usize| u32::try_from(n).map_err(|_| too_large.clone());
+        let count = |what: &'static str, count: usize| {
+            u32::try_from(count).map_err(|_| RegisterError::TooLarge { what, count })
+        };
         let params = FineParams {
             disp_weight: options.disp_weight,
             edge_weight: options.edge_weight,
             plane_weight: options.plane_weight,
             point_weight: options.point_weight,
             tolerance: options.tolerance,
-            vertices: count(start.len())?,
-            pairs: count(cover.len())?,
-            chunks: count(start.len().div_ceil(CHUNK))?,
-            max_iterations: count(options.max_cg_iterations)?,
+            vertices: count("vertices", start.len())?,
+            pairs: count("cover pairs", cover.len())?,
+            chunks: count("vertex chunks", start.len().div_ceil(CHUNK))?,
+            // More than 2³² iterations is no limit at all.
+            max_iterations: u32::try_from(options.max_cg_iterations).unwrap_or(u32::MAX),
         };
         let directions = (0..start.len())
             .into_par_iter()
