@@ -12,7 +12,7 @@ use super::dispatch::workgroup_grid;
 use super::kernel::{Access, KernelInfo};
 
 /// A compiled kernel: its pipeline and the layout its bind groups must follow.
-#[derive(Clone)]
+#[derive(Debug, Clone)]
 struct Compiled {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
@@ -237,6 +237,37 @@ impl GpuContext {
         batch.submit()
     }
 
+    /// `info` with `buffers` bound in its bindings' order, for dispatching many times
+    /// ([`Batch::dispatch_bound`]): a solver's iterations bind their kernels once, not per dispatch.
+    pub fn bind(
+        &self,
+        info: &'static KernelInfo,
+        buffers: &[&wgpu::Buffer],
+    ) -> Result<Bound, ComputeError> {
+        check_binding_count(info, buffers)?;
+        let compiled = self.compiled(info)?;
+        let bind_group = self.scoped(|| {
+            let entries: Vec<wgpu::BindGroupEntry> = buffers
+                .iter()
+                .enumerate()
+                .map(|(i, buffer)| wgpu::BindGroupEntry {
+                    binding: i as u32,
+                    resource: buffer.as_entire_binding(),
+                })
+                .collect();
+            self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(info.name),
+                layout: &compiled.layout,
+                entries: &entries,
+            })
+        })?;
+        Ok(Bound {
+            info,
+            compiled,
+            bind_group,
+        })
+    }
+
     /// An empty [`Batch`] of dispatches.
     pub fn batch(&self) -> Batch<'_> {
         Batch {
@@ -371,46 +402,33 @@ impl Batch<'_> {
         buffers: &[&wgpu::Buffer],
         items: u64,
     ) -> Result<(), ComputeError> {
-        let context = self.context;
-        if buffers.len() != info.bindings.len() {
-            return Err(ComputeError::BindingCount {
-                kernel: info.name,
-                expected: info.bindings.len(),
-                got: buffers.len(),
-            });
+        if items == 0 {
+            return check_binding_count(info, buffers);
         }
+        let bound = self.context.bind(info, buffers)?;
+        self.dispatch_bound(&bound, items)
+    }
+
+    /// Records `bound` over `items` work items.
+    pub fn dispatch_bound(&mut self, bound: &Bound, items: u64) -> Result<(), ComputeError> {
         if items == 0 {
             return Ok(());
         }
+        let context = self.context;
+        let info = bound.info;
         let grid = workgroup_grid(
             items,
             info.workgroup_size,
             context.limits.max_compute_workgroups_per_dimension,
         )?;
-        let compiled = context.compiled(info)?;
         let encoder = &mut self.encoder;
         context.scoped(|| {
-            let entries: Vec<wgpu::BindGroupEntry> = buffers
-                .iter()
-                .enumerate()
-                .map(|(i, buffer)| wgpu::BindGroupEntry {
-                    binding: i as u32,
-                    resource: buffer.as_entire_binding(),
-                })
-                .collect();
-            let bind_group = context
-                .device
-                .create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some(info.name),
-                    layout: &compiled.layout,
-                    entries: &entries,
-                });
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(info.name),
                 timestamp_writes: None,
             });
-            pass.set_pipeline(&compiled.pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
+            pass.set_pipeline(&bound.compiled.pipeline);
+            pass.set_bind_group(0, &bound.bind_group, &[]);
             pass.dispatch_workgroups(grid[0], grid[1], grid[2]);
         })
     }
@@ -420,6 +438,30 @@ impl Batch<'_> {
         let Self { context, encoder } = self;
         context.scoped(|| {
             context.queue.submit([encoder.finish()]);
+        })
+    }
+}
+
+/// A kernel bound to its buffers ([`GpuContext::bind`]).
+#[derive(Debug)]
+pub struct Bound {
+    info: &'static KernelInfo,
+    compiled: Compiled,
+    bind_group: wgpu::BindGroup,
+}
+
+/// An error unless `buffers` has one buffer per binding of `info`.
+fn check_binding_count(
+    info: &'static KernelInfo,
+    buffers: &[&wgpu::Buffer],
+) -> Result<(), ComputeError> {
+    if buffers.len() == info.bindings.len() {
+        Ok(())
+    } else {
+        Err(ComputeError::BindingCount {
+            kernel: info.name,
+            expected: info.bindings.len(),
+            got: buffers.len(),
         })
     }
 }

@@ -142,9 +142,9 @@ impl<'a> FineSystem<'a> {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Operand {
     /// The displacements, for the starting residual.
-    D,
+    D = 0,
     /// The search direction, in every iteration.
-    P,
+    P = 1,
 }
 
 /// Where the solves of one stage run: the CPU twins or the kernels, each with the stage's buffers

@@ -10,7 +10,7 @@
 
 use glam::{DMat3, DVec3};
 
-use crate::compute::{Batch, ComputeError, GpuContext};
+use crate::compute::{Batch, Bound, ComputeError, GpuContext};
 use crate::kernels::shared::{
     CgState, FineTarget, PHASE_ALPHA, PHASE_BEGIN, PHASE_BETA, PHASE_NORM,
 };
@@ -26,9 +26,19 @@ use crate::register::fine_solve::{FineSystem, Operand};
 /// iterations submitted past the end cost one early return per invocation.
 const ITERATIONS_PER_BATCH: u32 = 8;
 
-/// One stage's buffers on the device.
+/// One stage's buffers on the device, and its kernels bound to them.
 #[derive(Debug)]
 pub struct GpuFineSolve {
+    buffers: Buffers,
+    kernels: Kernels,
+    vertices: usize,
+    pairs: u64,
+    chunks: u64,
+    max_iterations: u32,
+}
+
+#[derive(Debug)]
+struct Buffers {
     params: wgpu::Buffer,
     state: wgpu::Buffer,
     phases: [wgpu::Buffer; 4],
@@ -48,10 +58,20 @@ pub struct GpuFineSolve {
     r: wgpu::Buffer,
     z: wgpu::Buffer,
     p: wgpu::Buffer,
-    vertices: usize,
-    pairs: u64,
-    chunks: u64,
-    max_iterations: u32,
+}
+
+/// Every dispatch of a solve, bound once per stage; `cover` and `apply` by [`Operand`].
+#[derive(Debug)]
+struct Kernels {
+    system: Bound,
+    cover: [Bound; 2],
+    apply: [Bound; 2],
+    start: Bound,
+    update: Bound,
+    direction: Bound,
+    reduce: Bound,
+    /// By phase.
+    scalars: [Bound; 4],
 }
 
 #[derive(Debug)]
@@ -85,7 +105,7 @@ impl GpuFineSolve {
         let n = system.len();
         let cover = &system.cover;
         let chunks = system.params.chunks as usize;
-        Ok(Self {
+        let buffers = Buffers {
             params: context.upload("fine params", &[system.params])?,
             state: context.upload("fine state", &[CgState::default()])?,
             phases: [
@@ -121,6 +141,10 @@ impl GpuFineSolve {
             r: context.output::<DVec3>("fine r", n.max(1))?,
             z: context.output::<DVec3>("fine z", n.max(1))?,
             p: context.output::<DVec3>("fine p", n.max(1))?,
+        };
+        Ok(Self {
+            kernels: Kernels::bind(context, &buffers)?,
+            buffers,
             vertices: n,
             pairs: u64::from(system.params.pairs),
             chunks: chunks as u64,
@@ -157,7 +181,7 @@ impl GpuFineSolve {
                 self.direction(&mut batch)?;
             }
             batch.submit()?;
-            let now = context.read_back::<CgState>(&self.state, 1)?;
+            let now = context.read_back::<CgState>(&self.buffers.state, 1)?;
             if now.first().is_some_and(|s| s.done != 0) {
                 state = now.first().copied();
                 break;
@@ -170,7 +194,10 @@ impl GpuFineSolve {
                 batches * ITERATIONS_PER_BATCH
             ))
         })?;
-        Ok((state, context.read_back::<DVec3>(&self.d, self.vertices)?))
+        Ok((
+            state,
+            context.read_back::<DVec3>(&self.buffers.d, self.vertices)?,
+        ))
     }
 
     /// Replaces the correspondences on the device.
@@ -186,160 +213,161 @@ impl GpuFineSolve {
                 self.vertices
             )));
         }
-        context.write(&self.targets, targets)
+        context.write(&self.buffers.targets, targets)
     }
 
     /// `fine_system`.
     pub fn system(&self, batch: &mut Batch) -> Result<(), ComputeError> {
-        let c = &self.cover;
-        batch.dispatch(
-            &FINE_SYSTEM,
-            &[
-                &self.params,
-                &self.start,
-                &self.targets,
-                &self.offsets,
-                &self.directions,
-                &c.offsets,
-                &c.entries,
-                &c.weights,
-                &c.matrices,
-                &c.pulls,
-                &self.fit,
-                &self.b,
-                &self.preconditioner,
-                &self.terms,
-            ],
-            self.vertices as u64,
-        )
+        batch.dispatch_bound(&self.kernels.system, self.vertices as u64)
     }
 
     /// `fine_start`.
     pub fn start(&self, batch: &mut Batch) -> Result<(), ComputeError> {
-        batch.dispatch(
-            &FINE_START,
-            &[
-                &self.params,
-                &self.state,
-                &self.b,
-                &self.preconditioner,
-                &self.ad,
-                &self.d,
-                &self.r,
-                &self.z,
-                &self.p,
-                &self.terms,
-            ],
-            self.vertices as u64,
-        )
+        batch.dispatch_bound(&self.kernels.start, self.vertices as u64)
     }
 
     /// `fine_update`.
     pub fn update(&self, batch: &mut Batch) -> Result<(), ComputeError> {
-        batch.dispatch(
-            &FINE_UPDATE,
-            &[
-                &self.params,
-                &self.state,
-                &self.p,
-                &self.ad,
-                &self.preconditioner,
-                &self.d,
-                &self.r,
-                &self.z,
-                &self.terms,
-            ],
-            self.vertices as u64,
-        )
+        batch.dispatch_bound(&self.kernels.update, self.vertices as u64)
     }
 
     /// `fine_direction`.
     pub fn direction(&self, batch: &mut Batch) -> Result<(), ComputeError> {
-        batch.dispatch(
-            &FINE_DIRECTION,
-            &[&self.params, &self.state, &self.z, &self.p],
-            self.vertices as u64,
-        )
+        batch.dispatch_bound(&self.kernels.direction, self.vertices as u64)
     }
 
     /// `fine_cover` and `fine_apply`: `ad = A x`.
     pub fn apply(&self, batch: &mut Batch, operand: Operand) -> Result<(), ComputeError> {
-        let c = &self.cover;
-        let x = match operand {
-            Operand::D => &self.d,
-            Operand::P => &self.p,
-        };
-        batch.dispatch(
-            &FINE_COVER,
-            &[
-                &self.params,
-                &self.state,
-                &c.corners,
-                &c.weights,
-                &c.matrices,
-                x,
-                &c.moved,
-            ],
-            self.pairs,
-        )?;
-        batch.dispatch(
-            &FINE_APPLY,
-            &[
-                &self.params,
-                &self.state,
-                &self.fit,
-                &self.offsets,
-                &self.neighbours,
-                &self.directions,
-                &c.offsets,
-                &c.entries,
-                &c.weights,
-                &c.moved,
-                x,
-                &self.ad,
-                &self.terms,
-            ],
-            self.vertices as u64,
-        )
+        let x = operand as usize;
+        batch.dispatch_bound(&self.kernels.cover[x], self.pairs)?;
+        batch.dispatch_bound(&self.kernels.apply[x], self.vertices as u64)
     }
 
     /// `fine_reduce`, then `fine_scalars` in `phase`.
     pub fn reduce(&self, batch: &mut Batch, phase: u32) -> Result<(), ComputeError> {
-        batch.dispatch(
-            &FINE_REDUCE,
-            &[&self.params, &self.terms, &self.partials],
-            self.chunks,
-        )?;
-        batch.dispatch(
-            &FINE_SCALARS,
-            &[
-                &self.params,
-                &self.phases[phase as usize],
-                &self.partials,
-                &self.state,
-            ],
-            1,
-        )
+        batch.dispatch_bound(&self.kernels.reduce, self.chunks)?;
+        batch.dispatch_bound(&self.kernels.scalars[phase as usize], 1)
     }
 
     /// Everything on the device, read back into the CPU twins' buffers (parity tests compare them).
     #[cfg(test)]
     pub fn read_all(&self, context: &GpuContext) -> Result<CpuFineSolve, ComputeError> {
         let n = self.vertices;
-        let state = context.read_back::<CgState>(&self.state, 1)?;
+        let state = context.read_back::<CgState>(&self.buffers.state, 1)?;
         Ok(CpuFineSolve {
-            fit: context.read_back(&self.fit, n)?,
-            b: context.read_back(&self.b, n)?,
-            preconditioner: context.read_back(&self.preconditioner, n)?,
-            terms: context.read_back(&self.terms, n)?,
-            partials: context.read_back(&self.partials, self.chunks as usize)?,
-            moved: context.read_back(&self.cover.moved, self.pairs as usize)?,
-            ad: context.read_back(&self.ad, n)?,
-            d: context.read_back(&self.d, n)?,
-            r: context.read_back(&self.r, n)?,
-            z: context.read_back(&self.z, n)?,
-            p: context.read_back(&self.p, n)?,
+            fit: context.read_back(&self.buffers.fit, n)?,
+            b: context.read_back(&self.buffers.b, n)?,
+            preconditioner: context.read_back(&self.buffers.preconditioner, n)?,
+            terms: context.read_back(&self.buffers.terms, n)?,
+            partials: context.read_back(&self.buffers.partials, self.chunks as usize)?,
+            moved: context.read_back(&self.buffers.cover.moved, self.pairs as usize)?,
+            ad: context.read_back(&self.buffers.ad, n)?,
+            d: context.read_back(&self.buffers.d, n)?,
+            r: context.read_back(&self.buffers.r, n)?,
+            z: context.read_back(&self.buffers.z, n)?,
+            p: context.read_back(&self.buffers.p, n)?,
             state: state.first().copied().unwrap_or_default(),
+        })
+    }
+}
+
+impl Kernels {
+    fn bind(context: &GpuContext, b: &Buffers) -> Result<Self, ComputeError> {
+        let c = &b.cover;
+        let cover = |x| {
+            context.bind(
+                &FINE_COVER,
+                &[
+                    &b.params,
+                    &b.state,
+                    &c.corners,
+                    &c.weights,
+                    &c.matrices,
+                    x,
+                    &c.moved,
+                ],
+            )
+        };
+        let apply = |x| {
+            context.bind(
+                &FINE_APPLY,
+                &[
+                    &b.params,
+                    &b.state,
+                    &b.fit,
+                    &b.offsets,
+                    &b.neighbours,
+                    &b.directions,
+                    &c.offsets,
+                    &c.entries,
+                    &c.weights,
+                    &c.moved,
+                    x,
+                    &b.ad,
+                    &b.terms,
+                ],
+            )
+        };
+        let scalars = |phase: usize| {
+            context.bind(
+                &FINE_SCALARS,
+                &[&b.params, &b.phases[phase], &b.partials, &b.state],
+            )
+        };
+        Ok(Self {
+            system: context.bind(
+                &FINE_SYSTEM,
+                &[
+                    &b.params,
+                    &b.start,
+                    &b.targets,
+                    &b.offsets,
+                    &b.directions,
+                    &c.offsets,
+                    &c.entries,
+                    &c.weights,
+                    &c.matrices,
+                    &c.pulls,
+                    &b.fit,
+                    &b.b,
+                    &b.preconditioner,
+                    &b.terms,
+                ],
+            )?,
+            cover: [cover(&b.d)?, cover(&b.p)?],
+            apply: [apply(&b.d)?, apply(&b.p)?],
+            start: context.bind(
+                &FINE_START,
+                &[
+                    &b.params,
+                    &b.state,
+                    &b.b,
+                    &b.preconditioner,
+                    &b.ad,
+                    &b.d,
+                    &b.r,
+                    &b.z,
+                    &b.p,
+                    &b.terms,
+                ],
+            )?,
+            update: context.bind(
+                &FINE_UPDATE,
+                &[
+                    &b.params,
+                    &b.state,
+                    &b.p,
+                    &b.ad,
+                    &b.preconditioner,
+                    &b.d,
+                    &b.r,
+                    &b.z,
+                    &b.terms,
+                ],
+            )?,
+            direction: context.bind(&FINE_DIRECTION, &[&b.params, &b.state, &b.z, &b.p])?,
+            reduce: context.bind(&FINE_REDUCE, &[&b.params, &b.terms, &b.partials])?,
+            scalars: [scalars(0)?, scalars(1)?, scalars(2)?, scalars(3)?],
         })
     }
 }
