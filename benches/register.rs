@@ -10,7 +10,8 @@
 //! - `register/stage/<size>`: the whole coarse stage (`CoarseSolver::run`; setup, and the rigid
 //!   pre-alignment that runs beside the graph build there, excluded), the
 //!   whole fine stage (`fine_align` from the source), and `register` end to end (BVH, setup, both
-//!   stages) on the CPU and, where an adapter exists, with projection on the GPU.
+//!   stages); the last two on the CPU and, where an adapter exists, on the GPU (`fine_gpu`,
+//!   `register_gpu`: projection and the fine stage's solve there).
 //!
 //! Setup (graph, pattern, symbolic factorization, BVH, pipelines) stays outside the timed closures.
 
@@ -125,9 +126,12 @@ fn bench(c: &mut Criterion) {
                 BatchSize::PerIteration,
             )
         });
-        group.bench_function("fine", |b| {
-            b.iter(|| fine_align(&cpu, &bvh, &source, &options).expect("fine"))
-        });
+        for (name, backend) in [("fine", Some(&cpu)), ("fine_gpu", gpu.as_ref())] {
+            let Some(backend) = backend else { continue };
+            group.bench_function(name, |b| {
+                b.iter(|| fine_align(backend, &bvh, &source, &options).expect("fine"))
+            });
+        }
         let mesh = Mesh::from_indexed(&source).expect("mesh");
         for (name, backend) in [("register_cpu", Some(&cpu)), ("register_gpu", gpu.as_ref())] {
             let Some(backend) = backend else { continue };

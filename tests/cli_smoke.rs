@@ -125,8 +125,12 @@ fn bench_json_gives_the_stage_figures_of_every_run() {
     .iter()
     .map(|s| stage(s))
     .sum();
-    // The stages are parts of the frame, timed inside it.
+    // The stages are parts of the frame, timed inside it; the fine stage is part of registration.
     assert!(stages > 0.0 && stages <= stage("total") * 1.0001, "{t}");
+    assert!(
+        stage("register_fine") > 0.0 && stage("register_fine") <= stage("register"),
+        "{t}"
+    );
     assert!(
         report["peak_memory_mib"].as_f64().is_some_and(|m| m > 0.0),
         "{stdout}"

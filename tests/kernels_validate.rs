@@ -39,7 +39,8 @@ fn wgsl_files_on_disk() -> Vec<String> {
     relative
 }
 
-/// Parses and validates `source` with every validation flag, naming `path` on failure.
+/// Parses and validates `source` with every validation flag, naming `path` on failure. The fine
+/// stage's kernels compute in f64, which the device opens where the adapter has it.
 fn validate(path: &str, source: &str) -> Result<naga::Module, String> {
     let module = naga::front::wgsl::parse_str(source).map_err(|e| {
         format!(
@@ -47,14 +48,17 @@ fn validate(path: &str, source: &str) -> Result<naga::Module, String> {
             e.emit_to_string_with_path(source, path)
         )
     })?;
-    Validator::new(ValidationFlags::all(), Capabilities::default())
-        .validate(&module)
-        .map_err(|e| {
-            format!(
-                "{path}: naga validation error\n{}",
-                e.emit_to_string_with_path(source, path)
-            )
-        })?;
+    Validator::new(
+        ValidationFlags::all(),
+        Capabilities::default() | Capabilities::FLOAT64,
+    )
+    .validate(&module)
+    .map_err(|e| {
+        format!(
+            "{path}: naga validation error\n{}",
+            e.emit_to_string_with_path(source, path)
+        )
+    })?;
     Ok(module)
 }
 

@@ -57,8 +57,8 @@ struct Row {
     backend: String,
     frames_timed: usize,
     /// Share of the frame's time spent in the stages the GPU path runs as kernels (projection,
-    /// closest points, triangle bounds, rasterization, sweeps, narrow-band distance), on this
-    /// backend (see `compute::kernel_time`). On the CPU path: the most of a frame a GPU can speed up.
+    /// closest points, triangle bounds, rasterization, sweeps, narrow-band distance, the fine
+    /// stage's solve), on this backend (see `compute::kernel_time`). On the CPU path: the most of a frame a GPU can speed up.
     gpu_share: f64,
     /// Bytes uploaded to and read back from the device per timed frame (GPU path only).
     bytes_per_frame: Option<[u64; 2]>,
@@ -197,6 +197,7 @@ fn time(
         for log in report.frames.iter().skip(1) {
             let t = &log.times;
             sum.register += t.register;
+            sum.register_fine += t.register_fine;
             sum.improve += t.improve;
             sum.topology_self += t.topology_self;
             sum.topology_target += t.topology_target;
@@ -220,6 +221,7 @@ fn time(
             },
             ms_per_frame: StageTimes {
                 register: sum.register / n,
+                register_fine: sum.register_fine / n,
                 improve: sum.improve / n,
                 topology_self: sum.topology_self / n,
                 topology_target: sum.topology_target / n,

@@ -92,7 +92,12 @@ impl fmt::Display for Backend {
                     f,
                     "gpu ({}, {:?} {:?})",
                     info.name, info.backend, info.device_type
-                )
+                )?;
+                if !context.has_f64() {
+                    // The fine stage's kernels compute in f64 (`register::fine_solve`).
+                    f.write_str(", fine stage on the CPU: no f64 shaders")?;
+                }
+                Ok(())
             }
         }
     }

@@ -12,7 +12,7 @@ use super::dispatch::workgroup_grid;
 use super::kernel::{Access, KernelInfo};
 
 /// A compiled kernel: its pipeline and the layout its bind groups must follow.
-#[derive(Clone)]
+#[derive(Debug, Clone)]
 struct Compiled {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
@@ -46,12 +46,14 @@ impl fmt::Debug for GpuContext {
 
 impl GpuContext {
     /// Opens a device on `adapter` with the adapter's full limits, so buffers as large as the
-    /// hardware allows can be bound (the WebGPU defaults stop at 128 MiB per storage buffer).
+    /// hardware allows can be bound (the WebGPU defaults stop at 128 MiB per storage buffer), and
+    /// with f64 shader arithmetic where the adapter has it (the fine stage's kernels need it).
     pub fn new(adapter: &wgpu::Adapter) -> Result<Self, ComputeError> {
         let info = adapter.get_info();
         let limits = adapter.limits();
         let descriptor = wgpu::DeviceDescriptor {
             label: Some("surftrack"),
+            required_features: adapter.features() & wgpu::Features::SHADER_F64,
             required_limits: limits.clone(),
             ..Default::default()
         };
@@ -75,6 +77,11 @@ impl GpuContext {
 
     pub fn adapter_info(&self) -> &wgpu::AdapterInfo {
         &self.info
+    }
+
+    /// Whether kernels may compute in f64 (`wgpu::Features::SHADER_F64`).
+    pub fn has_f64(&self) -> bool {
+        self.device.features().contains(wgpu::Features::SHADER_F64)
     }
 
     pub fn device(&self) -> &wgpu::Device {
@@ -120,7 +127,7 @@ impl GpuContext {
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some(label),
                     contents,
-                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                    usage: BUFFER_USAGES,
                 })
         })
     }
@@ -137,10 +144,31 @@ impl GpuContext {
             self.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size: padded(bytes),
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                usage: BUFFER_USAGES,
                 mapped_at_creation: false,
             })
         })
+    }
+
+    /// Overwrites the start of `buffer` with `data` (made by [`Self::upload`] or [`Self::output`],
+    /// at least as long); the write lands before any work submitted after it.
+    pub fn write<T: Pod>(&self, buffer: &wgpu::Buffer, data: &[T]) -> Result<(), ComputeError> {
+        let contents: &[u8] = bytemuck::cast_slice(data);
+        if contents.is_empty() {
+            return Ok(());
+        }
+        if contents.len() as u64 > buffer.size()
+            || !(contents.len() as u64).is_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT)
+        {
+            return Err(ComputeError::Gpu(format!(
+                "write of {} bytes into a buffer of {} bytes",
+                contents.len(),
+                buffer.size()
+            )));
+        }
+        self.uploaded
+            .fetch_add(contents.len() as u64, Ordering::Relaxed);
+        self.scoped(|| self.queue.write_buffer(buffer, 0, contents))
     }
 
     /// Copies the first `len` elements of `buffer` back to the host, waiting for all work
@@ -204,23 +232,21 @@ impl GpuContext {
         buffers: &[&wgpu::Buffer],
         items: u64,
     ) -> Result<(), ComputeError> {
-        if buffers.len() != info.bindings.len() {
-            return Err(ComputeError::BindingCount {
-                kernel: info.name,
-                expected: info.bindings.len(),
-                got: buffers.len(),
-            });
-        }
-        if items == 0 {
-            return Ok(());
-        }
-        let grid = workgroup_grid(
-            items,
-            info.workgroup_size,
-            self.limits.max_compute_workgroups_per_dimension,
-        )?;
+        let mut batch = self.batch();
+        batch.dispatch(info, buffers, items)?;
+        batch.submit()
+    }
+
+    /// `info` with `buffers` bound in its bindings' order, for dispatching many times
+    /// ([`Batch::dispatch_bound`]): a solver's iterations bind their kernels once, not per dispatch.
+    pub fn bind(
+        &self,
+        info: &'static KernelInfo,
+        buffers: &[&wgpu::Buffer],
+    ) -> Result<Bound, ComputeError> {
+        check_binding_count(info, buffers)?;
         let compiled = self.compiled(info)?;
-        self.scoped(|| {
+        let bind_group = self.scoped(|| {
             let entries: Vec<wgpu::BindGroupEntry> = buffers
                 .iter()
                 .enumerate()
@@ -229,23 +255,25 @@ impl GpuContext {
                     resource: buffer.as_entire_binding(),
                 })
                 .collect();
-            let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            self.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some(info.name),
                 layout: &compiled.layout,
                 entries: &entries,
-            });
-            let mut encoder = self.device.create_command_encoder(&Default::default());
-            {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(info.name),
-                    timestamp_writes: None,
-                });
-                pass.set_pipeline(&compiled.pipeline);
-                pass.set_bind_group(0, &bind_group, &[]);
-                pass.dispatch_workgroups(grid[0], grid[1], grid[2]);
-            }
-            self.queue.submit([encoder.finish()]);
+            })
+        })?;
+        Ok(Bound {
+            info,
+            compiled,
+            bind_group,
         })
+    }
+
+    /// An empty [`Batch`] of dispatches.
+    pub fn batch(&self) -> Batch<'_> {
+        Batch {
+            context: self,
+            encoder: self.device.create_command_encoder(&Default::default()),
+        }
     }
 
     /// Blocks until all submitted work has finished.
@@ -356,6 +384,93 @@ impl GpuContext {
         }
     }
 }
+
+/// Dispatches recorded into one command buffer and submitted together: a sequence of kernels that
+/// read each other's outputs costs one submission, not one each. Each dispatch has its own compute
+/// pass, so each sees everything the ones before it wrote.
+pub struct Batch<'a> {
+    context: &'a GpuContext,
+    encoder: wgpu::CommandEncoder,
+}
+
+impl Batch<'_> {
+    /// Records `info` over `items` work items with `buffers` bound in its bindings' order (see
+    /// [`GpuContext::dispatch`]).
+    pub fn dispatch(
+        &mut self,
+        info: &'static KernelInfo,
+        buffers: &[&wgpu::Buffer],
+        items: u64,
+    ) -> Result<(), ComputeError> {
+        if items == 0 {
+            return check_binding_count(info, buffers);
+        }
+        let bound = self.context.bind(info, buffers)?;
+        self.dispatch_bound(&bound, items)
+    }
+
+    /// Records `bound` over `items` work items.
+    pub fn dispatch_bound(&mut self, bound: &Bound, items: u64) -> Result<(), ComputeError> {
+        if items == 0 {
+            return Ok(());
+        }
+        let context = self.context;
+        let info = bound.info;
+        let grid = workgroup_grid(
+            items,
+            info.workgroup_size,
+            context.limits.max_compute_workgroups_per_dimension,
+        )?;
+        let encoder = &mut self.encoder;
+        context.scoped(|| {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(info.name),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&bound.compiled.pipeline);
+            pass.set_bind_group(0, &bound.bind_group, &[]);
+            pass.dispatch_workgroups(grid[0], grid[1], grid[2]);
+        })
+    }
+
+    /// Submits everything recorded; [`GpuContext::read_back`] or [`GpuContext::wait`] waits for it.
+    pub fn submit(self) -> Result<(), ComputeError> {
+        let Self { context, encoder } = self;
+        context.scoped(|| {
+            context.queue.submit([encoder.finish()]);
+        })
+    }
+}
+
+/// A kernel bound to its buffers ([`GpuContext::bind`]).
+#[derive(Debug)]
+pub struct Bound {
+    info: &'static KernelInfo,
+    compiled: Compiled,
+    bind_group: wgpu::BindGroup,
+}
+
+/// An error unless `buffers` has one buffer per binding of `info`.
+fn check_binding_count(
+    info: &'static KernelInfo,
+    buffers: &[&wgpu::Buffer],
+) -> Result<(), ComputeError> {
+    if buffers.len() == info.bindings.len() {
+        Ok(())
+    } else {
+        Err(ComputeError::BindingCount {
+            kernel: info.name,
+            expected: info.bindings.len(),
+            got: buffers.len(),
+        })
+    }
+}
+
+/// How every storage buffer may be used: bound to kernels, copied out for reading back, written
+/// in place ([`GpuContext::write`]).
+const BUFFER_USAGES: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
+    .union(wgpu::BufferUsages::COPY_SRC)
+    .union(wgpu::BufferUsages::COPY_DST);
 
 /// Byte length of `len` elements of `T`.
 fn byte_len<T>(label: &'static str, len: usize) -> Result<usize, ComputeError> {

@@ -1,6 +1,6 @@
 //! Wall time spent in the stages the GPU path runs as kernels — correspondence projection,
-//! closest points, triangle bounds, rasterization, sweeps and the narrow-band distance — on
-//! whichever backend runs them. On the CPU path its share of a frame (`bench`'s `gpu_share`) is
+//! closest points, triangle bounds, rasterization, sweeps, the narrow-band distance and the fine
+//! stage's solve — on whichever backend runs them. On the CPU path its share of a frame (`bench`'s `gpu_share`) is
 //! the most of that frame a GPU could speed up, whatever its kernels' speed.
 //!
 //! One process-wide clock: stages that run beside each other (Φ(T) is sampled while the mesh

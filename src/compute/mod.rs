@@ -15,6 +15,6 @@ pub mod kernel_time;
 pub mod parity;
 
 pub use backend::{Backend, BackendChoice};
-pub use context::GpuContext;
+pub use context::{Batch, Bound, GpuContext};
 pub use error::{ComputeError, LAVAPIPE_HINT};
 pub use kernel::{Access, Binding, GpuStructLayout, KernelInfo, SharedWgsl};

@@ -8,7 +8,7 @@
 use std::fmt::{self, Write as _};
 use std::sync::OnceLock;
 
-use glam::Vec3;
+use glam::{DMat3, DVec3, Vec3};
 
 use super::{Backend, BackendChoice, ComputeError};
 
@@ -23,6 +23,7 @@ const SHOWN: usize = 50;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Scalar {
     F32(f32),
+    F64(f64),
     U32(u32),
     I32(i32),
 }
@@ -32,6 +33,7 @@ impl Scalar {
     fn identical(self, other: Self) -> bool {
         match (self, other) {
             (Self::F32(a), Self::F32(b)) => a.to_bits() == b.to_bits(),
+            (Self::F64(a), Self::F64(b)) => a.to_bits() == b.to_bits(),
             (Self::U32(a), Self::U32(b)) => a == b,
             (Self::I32(a), Self::I32(b)) => a == b,
             _ => false,
@@ -47,6 +49,7 @@ impl Scalar {
             (Self::F32(a), Self::F32(b)) if a.is_finite() && b.is_finite() => {
                 (f64::from(a) - f64::from(b)).abs()
             }
+            (Self::F64(a), Self::F64(b)) if a.is_finite() && b.is_finite() => (a - b).abs(),
             (Self::U32(a), Self::U32(b)) => f64::from(a.abs_diff(b)),
             (Self::I32(a), Self::I32(b)) => f64::from(a.abs_diff(b)),
             _ => f64::INFINITY,
@@ -58,6 +61,7 @@ impl fmt::Display for Scalar {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::F32(x) => write!(f, "{x:?} ({:#010x})", x.to_bits()),
+            Self::F64(x) => write!(f, "{x:?} ({:#018x})", x.to_bits()),
             Self::U32(x) => write!(f, "{x}"),
             Self::I32(x) => write!(f, "{x}"),
         }
@@ -89,6 +93,34 @@ impl ParityValue for i32 {
     const LANES: &'static [&'static str] = &[""];
     fn lane(&self, _: usize) -> Scalar {
         Scalar::I32(*self)
+    }
+}
+
+impl ParityValue for f64 {
+    const LANES: &'static [&'static str] = &[""];
+    fn lane(&self, _: usize) -> Scalar {
+        Scalar::F64(*self)
+    }
+}
+
+impl ParityValue for [f64; 2] {
+    const LANES: &'static [&'static str] = &["0", "1"];
+    fn lane(&self, k: usize) -> Scalar {
+        Scalar::F64(self[k])
+    }
+}
+
+impl ParityValue for DVec3 {
+    const LANES: &'static [&'static str] = &["x", "y", "z"];
+    fn lane(&self, k: usize) -> Scalar {
+        Scalar::F64(self[k])
+    }
+}
+
+impl ParityValue for DMat3 {
+    const LANES: &'static [&'static str] = &["xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"];
+    fn lane(&self, k: usize) -> Scalar {
+        Scalar::F64(self.col(k / 3)[k % 3])
     }
 }
 

@@ -52,6 +52,7 @@ impl SharedWgsl {
     pub const EXACT: SharedWgsl = shared_wgsl!("exact");
     pub const CROSSING: SharedWgsl = shared_wgsl!("crossing");
     pub const DISTANCE: SharedWgsl = shared_wgsl!("distance");
+    pub const FINE: SharedWgsl = shared_wgsl!("fine");
 }
 
 /// Every shared WGSL file.
@@ -62,6 +63,7 @@ pub const SHARED: &[SharedWgsl] = &[
     SharedWgsl::EXACT,
     SharedWgsl::CROSSING,
     SharedWgsl::DISTANCE,
+    SharedWgsl::FINE,
 ];
 
 /// Per triangle, its bounding box: the leaves of the BVH.
@@ -89,6 +91,42 @@ pub const SWEEP: KernelInfo = kernel!("grid", "sweep", [CROSSING],
 pub const DISTANCE: KernelInfo = kernel!("grid", "distance", [DISTANCE], [read params, read nodes,
     read triangles, read boxes, read chunks, read tiles, write nearest]);
 
+/// Per vertex of the fine stage, its fit matrix, right-hand side, preconditioner block and `|b_v|²`.
+pub const FINE_SYSTEM: KernelInfo = kernel!("register", "fine_system", [FINE], [read params,
+    read start, read targets, read offsets, read directions, read cover_offsets,
+    read cover_entries, read cover_weights, read cover_matrices, read cover_pulls, write fit,
+    write b, write preconditioner, write terms]);
+
+/// Per cover pair, its matrix times the blend of its three vertices' values.
+pub const FINE_COVER: KernelInfo = kernel!("register", "fine_cover", [FINE], [read params,
+    read state, read corners, read weights, read matrices, read x, write moved]);
+
+/// Per vertex, the fine system's matrix times a vector, and that product's term of `xᵀAx`.
+pub const FINE_APPLY: KernelInfo = kernel!("register", "fine_apply", [FINE], [read params,
+    read state, read fit, read offsets, read neighbours, read directions, read cover_offsets,
+    read cover_entries, read cover_weights, read moved, read x, write out, write terms]);
+
+/// Per chunk of vertices, the in-order sums of their two terms.
+pub const FINE_REDUCE: KernelInfo = kernel!("register", "fine_reduce", [FINE], [read params,
+    read terms, write partials]);
+
+/// One invocation: a conjugate-gradient step's scalars from the chunk sums.
+pub const FINE_SCALARS: KernelInfo = kernel!("register", "fine_scalars", [FINE], [read params,
+    read phase, read partials, write state]);
+
+/// Per vertex, the first residual, preconditioned residual and direction of a solve.
+pub const FINE_START: KernelInfo = kernel!("register", "fine_start", [FINE], [read params,
+    read state, read b, read preconditioner, read ad, write d, write r, write z, write p,
+    write terms]);
+
+/// Per vertex, a conjugate-gradient step of the solution and the residuals.
+pub const FINE_UPDATE: KernelInfo = kernel!("register", "fine_update", [FINE], [read params,
+    read state, read p, read ad, read preconditioner, write d, write r, write z, write terms]);
+
+/// Per vertex, the next search direction.
+pub const FINE_DIRECTION: KernelInfo = kernel!("register", "fine_direction", [FINE],
+    [read params, read state, read z, write p]);
+
 /// Every kernel.
 pub const KERNELS: &[KernelInfo] = &[
     TRIANGLE_BOUNDS,
@@ -97,6 +135,14 @@ pub const KERNELS: &[KernelInfo] = &[
     RASTERIZE,
     SWEEP,
     DISTANCE,
+    FINE_SYSTEM,
+    FINE_COVER,
+    FINE_APPLY,
+    FINE_REDUCE,
+    FINE_SCALARS,
+    FINE_START,
+    FINE_UPDATE,
+    FINE_DIRECTION,
 ];
 
 /// Every Rust struct mirrored in WGSL.
@@ -118,4 +164,7 @@ pub const GPU_STRUCTS: &[GpuStructLayout] = &[
     shared::TriangleBox::LAYOUT,
     shared::BandChunk::LAYOUT,
     shared::BandTile::LAYOUT,
+    shared::FineParams::LAYOUT,
+    shared::CgState::LAYOUT,
+    shared::FineTarget::LAYOUT,
 ];

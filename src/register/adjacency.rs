@@ -61,6 +61,16 @@ impl VertexAdjacency {
         self.offsets.len() - 1
     }
 
+    /// Vertex `v`'s neighbours are `all_neighbours()[offsets()[v]..offsets()[v + 1]]`.
+    pub fn offsets(&self) -> &[u32] {
+        &self.offsets
+    }
+
+    /// Every vertex's neighbours, one list after another.
+    pub fn all_neighbours(&self) -> &[u32] {
+        &self.neighbours
+    }
+
     pub fn neighbours(&self, v: usize) -> &[u32] {
         &self.neighbours[self.offsets[v] as usize..self.offsets[v + 1] as usize]
     }

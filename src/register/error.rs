@@ -1,5 +1,6 @@
 use thiserror::Error;
 
+use crate::compute::ComputeError;
 use crate::mesh::MeshError;
 use crate::project::ProjectError;
 
@@ -25,6 +26,10 @@ pub enum RegisterError {
     },
     #[error("correspondence search failed: {0}")]
     Correspondence(#[source] ProjectError),
+    #[error("the fine stage's {what} ({count}) are more than its 32-bit indices hold")]
+    TooLarge { what: &'static str, count: usize },
+    #[error("the fine stage failed on the GPU: {0}")]
+    Compute(#[from] ComputeError),
     #[error("sparse factorization failed: {0}")]
     Factorization(#[from] FactorizationError),
 }

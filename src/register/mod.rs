@@ -12,11 +12,17 @@ mod assemble;
 mod cholesky;
 mod coarse;
 mod correspond;
+mod cover;
+mod cpu;
 mod energy;
 mod error;
 mod fine;
+#[cfg(test)]
+mod fine_parity;
+mod fine_solve;
 mod flush;
 mod geodesic;
+mod gpu;
 mod graph;
 #[cfg(test)]
 mod jacobian_tests;
@@ -51,9 +57,9 @@ use crate::project::{Bvh, ProjectError};
 use correspond::Projector;
 
 /// The fine stage alone: per-vertex displacements moving `source` onto the target behind `bvh`
-/// (projection on `backend`). Returns the new positions of `source`'s vertices. [`register`] runs it
-/// after the coarse stage; alone it is regularized projection, for meshes already close to the
-/// target.
+/// (projection and the solves on `backend`). Returns the new positions of `source`'s vertices.
+/// [`register`] runs it after the coarse stage; alone it is regularized projection, for meshes
+/// already close to the target.
 pub fn fine_align(
     backend: &Backend,
     bvh: &Bvh,
@@ -72,7 +78,8 @@ pub fn fine_align(
         bvh,
         max_angle_degrees: options.max_angle_degrees,
     };
-    let (positions, report) = fine::fine(&projector, &surface, &surface.rest, &options.fine)?;
+    let (positions, report) =
+        fine::fine(backend, &projector, &surface, &surface.rest, &options.fine)?;
     Ok((
         positions
             .iter()
@@ -92,8 +99,8 @@ pub enum Target<'a> {
     Tree(&'a Bvh),
 }
 
-/// Deforms `mesh` onto `target`: coarse graph registration, then fine alignment. Projection runs on
-/// `backend`; everything else on the CPU. Vertex ids and connectivity are untouched; only positions
+/// Deforms `mesh` onto `target`: coarse graph registration, then fine alignment. Projection and the
+/// fine stage's solve run on `backend`; everything else on the CPU. Vertex ids and connectivity are untouched; only positions
 /// change.
 ///
 /// A stage that does not converge is reported in the returned [`RegistrationReport`]
@@ -180,6 +187,7 @@ fn finish(
     };
     let surface = coarse.surface();
     let (fine, fine_report) = fine::fine(
+        backend,
         &projector,
         surface,
         &coarse.solver_positions(),

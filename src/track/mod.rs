@@ -132,6 +132,9 @@ pub enum StageError {
 pub struct StageTimes {
     /// Registration, with `Φ(T)` computed alongside it (see [`Tracker::step`]).
     pub register: f64,
+    /// Of `register`, the per-vertex (fine) stage.
+    #[serde(default)]
+    pub register_fine: f64,
     pub improve: f64,
     pub topology_self: f64,
     /// `ConstrainTopology(M, Φ(T))` itself; `Φ(T)` was computed during registration.
@@ -370,17 +373,18 @@ impl Tracker {
         let (moved, phi_t) = rayon::join(
             || match options.motion {
                 Motion::Register => register(backend, mesh, Target::Tree(bvh), &options.register)
-                    .map(|report| report.converged())
+                    .map(|report| (report.converged(), ms(report.fine_time)))
                     .map_err(|e| TrackError::at(frame, e)),
                 Motion::Project => project_onto(backend, mesh, bvh)
-                    .map(|()| true)
+                    .map(|()| (true, 0.0))
                     .map_err(|e| TrackError::at(frame, e)),
             },
             || Field::signed_distance(backend, grid, target).map_err(|e| TrackError::at(frame, e)),
         );
-        let converged = moved?;
+        let (converged, fine) = moved?;
         let phi_t = phi_t?;
         times.register = ms(t.elapsed());
+        times.register_fine = fine;
         Ok((converged, phi_t))
     }
 

@@ -36,6 +36,7 @@ mod aabb;
 mod bvh;
 mod crossing;
 mod distance;
+mod fine;
 mod lattice;
 
 pub use aabb::Aabb;
@@ -47,5 +48,8 @@ pub use crossing::{ENTER_BIT, GridCrossing, WindingRun};
 pub use distance::{
     BandChunk, BandTile, DistanceParams, GATHER_CAPACITY, Nearest, PLANE_SLACK, TreeNode,
     TreeTriangle, TriangleBox,
+};
+pub use fine::{
+    CgState, FineParams, FineTarget, PHASE_ALPHA, PHASE_BEGIN, PHASE_BETA, PHASE_NORM, REDUCE_CHUNK,
 };
 pub use lattice::{CELL_UNITS, FRACTION_BITS, LatticePoint, MAX_CELL_INDEX, MAX_TRIANGLE_SPAN};
