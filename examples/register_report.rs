@@ -62,14 +62,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for it in &stage.iterations {
             let t = &it.times;
             println!(
-                "  {:.4e} → {:.4e}  kept {} pruned {} replaced {} λ {:.1e} retries {} cg {} fact {}  corr {:.1?} asm {:.1?} fact {:.1?} solve {:.1?} eval {:.1?}",
+                "  {:.4e} → {:.4e}  kept {} pruned {} cg {} fact {}  corr {:.1?} asm {:.1?} fact {:.1?} solve {:.1?} eval {:.1?}",
                 it.energy_before,
                 it.energy,
                 it.kept,
                 it.pruned,
-                it.replaced,
-                it.damping,
-                it.retries,
                 it.cg_iterations,
                 it.factorizations,
                 t.correspondence,

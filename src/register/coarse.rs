@@ -4,8 +4,7 @@
 //! Each iteration forms `Jᵀr`, solves `(JᵀJ + λ I) δ = −Jᵀr` with faer's sparse Cholesky
 //! factorization (the symbolic analysis is done once per graph; see [`LinearSolver`] for the two
 //! ways the factor is used), and accepts the step only if it lowers `E_tot`. A non-positive pivot,
-//! or a rise, raises the Levenberg-Marquardt damping and tries again; the damping is carried from
-//! step to step and stage to stage, adapted to how well the model predicted each accepted step. Correspondences are re-projected
+//! or a rise, adds Levenberg-Marquardt damping and tries again. Correspondences are re-projected
 //! from the deformed surface after every step (non-rigid ICP, Li et al. 2009). Within a stage a
 //! vertex's correspondence is replaced only when the new one fits the vertex better, so the
 //! stage's energy can only fall (every term is then no larger than before); each new stage starts
@@ -42,16 +41,9 @@ use crate::project::Bvh;
 /// Retries with raised damping before an iteration gives up.
 const MAX_RETRIES: usize = 12;
 
-/// The least damping, relative to the mean diagonal of the factored matrix. Never zero: a part of
-/// the surface whose samples all lost their correspondences (a droplet the target no longer has)
-/// is held by `E_reg` alone, which leaves its rigid motions free, so the undamped matrix is
-/// singular on real fluid frames and every factorization at zero damping failed.
-const MIN_DAMPING: f64 = 1e-6;
-
-/// A raised damping this many times the one the factor was made with refactors: beyond it the
-/// undamped factor leaves the damped system's near-null directions (free rotations of nodes) far
-/// off, and one solve took the full 200 conjugate-gradient iterations on a dam-break frame.
-const REFACTOR_DAMPING: f64 = 10.0;
+/// Damping relative to the mean diagonal of the factored matrix on the first retry; each further
+/// retry ×10.
+const FIRST_DAMPING: f64 = 1e-6;
 
 /// A rise this small relative to the energy is rounding: the stage has converged.
 const ROUNDING: f64 = 1e-12;
@@ -97,13 +89,7 @@ pub struct CoarseSolver<'a> {
     delta: Vec<f64>,
     values: Vec<f64>,
     damped: Vec<f64>,
-    /// Levenberg-Marquardt damping relative to `scale` (`λ = damping · scale`), carried across
-    /// iterations and stages, and the factor a rejected step raises it by (Nielsen's rule, see
-    /// [`CoarseSolver::adapt`]).
-    damping: f64,
-    growth: f64,
-    /// The relative damping the current factor was made with.
-    factored_damping: f64,
+    lambda: f64,
     scale: f64,
     /// The factor does not match the current weights (new stage) or has become a poor
     /// preconditioner.
@@ -204,9 +190,7 @@ impl<'a> CoarseSolver<'a> {
             rigid,
             x,
             deformed,
-            damping: MIN_DAMPING,
-            growth: 2.0,
-            factored_damping: MIN_DAMPING,
+            lambda: 0.0,
             scale: 1.0,
             stale: true,
             factorizations: 0,
@@ -305,16 +289,15 @@ impl<'a> CoarseSolver<'a> {
     /// pivot raises the damping and refactors.
     pub fn factor(&mut self) -> Result<(), RegisterError> {
         loop {
-            damp(&self.pattern, &self.values, self.lambda(), &mut self.damped);
+            damp(&self.pattern, &self.values, self.lambda, &mut self.damped);
             self.factorizations += 1;
             match self.cholesky.factor(&self.pattern, &self.damped) {
                 Ok(()) => {
                     self.stale = false;
-                    self.factored_damping = self.damping;
                     return Ok(());
                 }
                 Err(LltError::NonPositivePivot { index }) => {
-                    let lambda = self.lambda();
+                    let lambda = self.lambda;
                     if !self.raise() {
                         return Err(FactorizationError::NotPositiveDefinite {
                             retries: MAX_RETRIES,
@@ -337,7 +320,7 @@ impl<'a> CoarseSolver<'a> {
             x: &self.x,
             fit: &self.fit,
             weights: self.weights,
-            damping: self.lambda(),
+            damping: self.lambda,
         };
         self.delta.copy_from_slice(&self.rhs);
         self.cholesky.solve(&mut self.delta)?;
@@ -365,46 +348,19 @@ impl<'a> CoarseSolver<'a> {
         Ok(solve.iterations)
     }
 
-    /// The damping `λ` added to the diagonal.
-    fn lambda(&self) -> f64 {
-        self.damping * self.scale
-    }
-
-    /// Raises the damping for another try; false when the retries are spent. The factor is kept
-    /// while the damping is within [`REFACTOR_DAMPING`] of the one it was made with: it still
-    /// preconditions the more damped system well, and a factorization costs several solves.
+    /// Raises the damping for another try; false when the retries are spent.
     fn raise(&mut self) -> bool {
         self.retries += 1;
         if self.retries > MAX_RETRIES {
             return false;
         }
-        self.damping *= self.growth;
-        self.growth *= 2.0;
-        if self.damping > REFACTOR_DAMPING * self.factored_damping {
-            self.stale = true;
-        }
+        self.lambda = if self.lambda > 0.0 {
+            self.lambda * 10.0
+        } else {
+            self.scale * FIRST_DAMPING
+        };
+        self.stale = true;
         true
-    }
-
-    /// The damping after an accepted step that lowered `E_tot` by `actual` where the damped
-    /// Gauss-Newton model predicted `predicted` (Nielsen's rule, Madsen, Nielsen & Tingleff 2004,
-    /// §3.2): a step the model foresaw well (ratio near 1) lowers it up to threefold, a poorer one
-    /// lowers it less or raises it. A fixed tenfold cut after every accepted step made the next
-    /// step overshoot and be rejected, an extra solve every other iteration on fluid frames.
-    fn adapt(&mut self, actual: f64, predicted: f64) {
-        self.damping = damping_after_step(self.damping, actual, predicted);
-        self.growth = 2.0;
-    }
-
-    /// The decrease of `E_tot` the damped Gauss-Newton model predicts for the step `δ` just
-    /// solved: with `(H + λI) δ = −g` and `E_tot = 2 F`, `2 (F − L(δ)) = δᵀ(λ δ − g)`.
-    fn predicted_decrease(&self) -> f64 {
-        let lambda = self.lambda();
-        self.delta
-            .iter()
-            .zip(&self.rhs)
-            .map(|(d, r)| d * (lambda * d + r))
-            .sum()
     }
 
     fn total(&self) -> f64 {
@@ -586,7 +542,6 @@ impl<'a> CoarseSolver<'a> {
                 let used = std::mem::replace(&mut self.cholesky, prepared.cholesky);
                 self.spare.push(used);
                 self.scale = prepared.scale;
-                self.factored_damping = prepared.damping;
                 self.stale = false;
             }
             Err(cholesky) => self.spare.push(cholesky),
@@ -635,7 +590,7 @@ impl<'a> CoarseSolver<'a> {
         let job = NextFactor {
             pattern: Arc::clone(&self.pattern),
             scale: mean_diagonal(&self.pattern, &values),
-            damping: self.damping,
+            lambda: self.lambda,
             values,
             cholesky,
         };
@@ -676,8 +631,12 @@ impl<'a> CoarseSolver<'a> {
             let trial_e = energy(&self.model, &trial, &trial_deformed, &self.current, w).total(w);
             times.evaluation += t.elapsed();
             if trial_e.is_finite() && trial_e <= e {
-                let damping = self.lambda();
-                self.adapt(e - trial_e, self.predicted_decrease());
+                let damping = self.lambda;
+                self.lambda = if self.lambda > self.scale * FIRST_DAMPING {
+                    self.lambda / 10.0
+                } else {
+                    0.0
+                };
                 self.x = trial;
                 self.deformed = trial_deformed;
                 return Ok(Outcome::Accepted { damping });
@@ -690,19 +649,6 @@ impl<'a> CoarseSolver<'a> {
             }
         }
     }
-}
-
-/// Nielsen's rule: the relative damping after an accepted step that lowered the energy by `actual`
-/// against the model's `predicted`, never below [`MIN_DAMPING`]; unchanged (but for that floor)
-/// when the prediction is not a decrease (an inexact solve can give one).
-fn damping_after_step(damping: f64, actual: f64, predicted: f64) -> f64 {
-    let next = if predicted > 0.0 {
-        let rho = actual / predicted;
-        damping * (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0)
-    } else {
-        damping
-    };
-    next.max(MIN_DAMPING)
 }
 
 /// What a coarse stage is built on: the source's surface, its deformation graph and the vertices
@@ -859,7 +805,6 @@ fn mean_diagonal(pattern: &Pattern, values: &[f64]) -> f64 {
 /// A factor ready for a later stage, and the damping scale of its matrix.
 struct Prepared {
     scale: f64,
-    damping: f64,
     cholesky: Cholesky,
 }
 
@@ -868,7 +813,7 @@ struct NextFactor {
     pattern: Arc<Pattern>,
     values: Vec<f64>,
     scale: f64,
-    damping: f64,
+    lambda: f64,
     cholesky: Cholesky,
 }
 
@@ -877,11 +822,10 @@ impl NextFactor {
     /// factors, and damps, as usual); and the time it took.
     fn run(mut self) -> (Result<Prepared, Cholesky>, Duration) {
         let t = Instant::now();
-        damp_in_place(&self.pattern, &mut self.values, self.damping * self.scale);
+        damp_in_place(&self.pattern, &mut self.values, self.lambda);
         let result = match self.cholesky.factor(&self.pattern, &self.values) {
             Ok(()) => Ok(Prepared {
                 scale: self.scale,
-                damping: self.damping,
                 cholesky: self.cholesky,
             }),
             Err(_) => Err(self.cholesky),
@@ -934,32 +878,4 @@ fn keep_better(
         }
     }
     replaced
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_well_predicted_step_lowers_the_damping_threefold() {
-        assert!((damping_after_step(0.3, 1.0, 1.0) - 0.1).abs() < 1e-15);
-        // Gain ratio 0.5: the cube term vanishes, the damping stays.
-        assert_eq!(damping_after_step(0.3, 0.5, 1.0), 0.3);
-    }
-
-    #[test]
-    fn a_poorly_predicted_step_raises_the_damping() {
-        // Gain ratio 0.1: 1 − (−0.8)³ = 1.512.
-        let next = damping_after_step(0.3, 0.1, 1.0);
-        assert!((next - 0.3 * 1.512).abs() < 1e-12, "{next}");
-        // Barely any gain: almost doubled.
-        assert!(damping_after_step(0.3, 1e-9, 1.0) > 0.59);
-    }
-
-    #[test]
-    fn the_damping_never_falls_below_its_floor() {
-        assert_eq!(damping_after_step(MIN_DAMPING, 1.0, 1.0), MIN_DAMPING);
-        assert_eq!(damping_after_step(0.0, 1.0, 1.0), MIN_DAMPING);
-        assert_eq!(damping_after_step(0.5, 1.0, -1.0), 0.5);
-    }
 }

@@ -45,8 +45,7 @@ pub struct IterationReport {
     pub pruned: usize,
     /// Correspondences replaced by a better re-projection after the step.
     pub replaced: usize,
-    /// Levenberg-Marquardt damping `λ` of the accepted step (never 0: at least 10⁻⁶ of the
-    /// matrix's mean diagonal).
+    /// Levenberg-Marquardt damping of the accepted step (0: a plain Gauss-Newton step).
     pub damping: f64,
     /// Steps retried with more damping (non-positive pivot or energy increase).
     pub retries: usize,
