@@ -10,7 +10,11 @@
 //! the coherence the tracker exists for (paper §4.3: only differences that change the topology
 //! should re-sample the surface).
 //!
-//! So the edges are gathered into clusters of cells (the four cells around each edge, grown by
+//! An edge one surface crosses as a sheet where the other crosses the next parallel edge as many
+//! times is no difference either: both have the sheet, a fraction of a cell apart (the topology
+//! step keeps such shared sheets too, `TopologyOptions::keep_shared_sheets`).
+//!
+//! So the remaining edges are gathered into clusters of cells (the four cells around each edge, grown by
 //! one, joined where they touch), and a cluster seeds the region only where replacing the tracked
 //! surface by the input inside it changes the Euler characteristic: the graft keeps the tracked
 //! triangles outside the region, `K`, copies the input's inside it, `C`, and joins them with
@@ -73,14 +77,23 @@ pub(super) fn seeds(
     let our_counts = crossing_counts(backend, frame, ours)?;
     let their_counts = crossing_counts(backend, frame, input)?;
     let differs = |n: u32, m: u32| n != m && n.max(m) >= 2;
+    // A sheet both surfaces have, crossing the next parallel edge in one of them, is no difference.
+    let shifted = |key: &(Cell, usize), n: u32, other: &FxHashMap<(Cell, usize), u32>| {
+        n >= 2
+            && PARALLEL.iter().any(|d| {
+                let c = [key.0[0] + d[0], key.0[1] + d[1], key.0[2] + d[2]];
+                other.get(&(c, key.1)).copied().unwrap_or(0) == n
+            })
+    };
     let edges = our_counts
         .iter()
-        .filter(|(key, n)| differs(**n, their_counts.get(key).copied().unwrap_or(0)))
-        .chain(
-            their_counts
-                .iter()
-                .filter(|(key, m)| !our_counts.contains_key(key) && differs(0, **m)),
-        );
+        .filter(|(key, n)| {
+            differs(**n, their_counts.get(key).copied().unwrap_or(0))
+                && !shifted(key, **n, &their_counts)
+        })
+        .chain(their_counts.iter().filter(|(key, m)| {
+            !our_counts.contains_key(key) && differs(0, **m) && !shifted(key, **m, &our_counts)
+        }));
     let mut around_edges: Vec<Cell> = Vec::new();
     for ((corner, axis), _) in edges {
         let (b, c) = cross_axes(*axis);
@@ -113,6 +126,16 @@ pub(super) fn seeds(
     }
     Ok(Seeds { selected, all })
 }
+
+/// Offsets to the grid edges next to one: one step along any axis.
+const PARALLEL: [[i32; 3]; 6] = [
+    [1, 0, 0],
+    [-1, 0, 0],
+    [0, 1, 0],
+    [0, -1, 0],
+    [0, 0, 1],
+    [0, 0, -1],
+];
 
 /// The cells of the input's edges whose ends lie nearest to different components of `ours`
 /// (none when `ours` is one component).
