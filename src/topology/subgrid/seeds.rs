@@ -284,3 +284,44 @@ fn euler(mesh: &IndexedMesh, triangles: &[u32]) -> i64 {
     }
     vertices.len() as i64 - edges.len() as i64 + triangles.len() as i64
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grid::{ScalarGrid, marching_cubes};
+
+    /// Sheets 0.24 cells thick at heights `centres` (in cells, on a grid of unit spacing), 8 cells
+    /// wide: each lies between two planes of corners, so every vertical grid edge under it is
+    /// crossed twice.
+    fn sheets(centres: &[f32]) -> IndexedMesh {
+        let centres = centres.to_vec();
+        let f = move |p: Vec3| {
+            centres
+                .iter()
+                .map(|&c| {
+                    let d = (p - Vec3::new(0.0, 0.0, c)).abs() - Vec3::new(4.0, 4.0, 0.12);
+                    d.max(Vec3::ZERO).length() + d.max_element().min(0.0)
+                })
+                .fold(f32::INFINITY, f32::min)
+        };
+        let h = 0.1;
+        let origin = Vec3::new(-6.0, -6.0, -3.0) + Vec3::new(0.031, 0.017, 0.043);
+        marching_cubes(
+            &ScalarGrid::from_fn(origin, h, [120, 120, 80], f).unwrap(),
+            0.0,
+        )
+    }
+
+    #[test]
+    fn a_sheet_one_edge_apart_is_no_difference_but_a_second_sheet_is() {
+        let frame = GridFrame::new(Vec3::new(0.013, -0.021, 0.007), 1.0).unwrap();
+        let ours = sheets(&[0.5]);
+        // The same sheet one cell higher crosses the next vertical edges, as often.
+        let shifted = seeds(&Backend::Cpu, &frame, (&ours, &sheets(&[1.5])), &[], false).unwrap();
+        assert!(shifted.all.is_empty(), "{} cells", shifted.all.len());
+        // A second sheet below the first crosses its edges twice more.
+        let doubled = sheets(&[0.3, 0.7]);
+        let seeded = seeds(&Backend::Cpu, &frame, (&ours, &doubled), &[], false).unwrap();
+        assert!(!seeded.all.is_empty());
+    }
+}
