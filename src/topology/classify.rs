@@ -19,10 +19,11 @@
 //! `depth = 0` makes every difference deep. The result is sorted and free of duplicates.
 
 use rayon::prelude::*;
+use rustc_hash::FxHashSet;
 
 use super::face_arcs::face_arcs;
 use super::field::Field;
-use super::keys::{Cell, Corner, GridEdge, GridFace, corner_cells};
+use super::keys::{Cell, Corner, GridEdge, GridFace, PARALLEL_EDGES, corner_cells};
 use super::mesh_grid::MeshGrid;
 use super::region::pairs_follow_rule;
 use crate::geometry::Components;
@@ -150,15 +151,8 @@ fn line_differences(
     let depth = strictness.depth;
     let mut seeds = Vec::new();
     let mut at: Vec<i32> = Vec::with_capacity(2 * crossings.len() + 2 * flips.len());
-    let mut winding = 0;
-    for group in crossings.chunk_by(|x, y| x.along() == y.along()) {
+    for (group, sequence) in edge_windings(crossings) {
         let edge = GridEdge::new(group[0].corner, group[0].axis());
-        let mut sequence = Vec::with_capacity(group.len() + 1);
-        sequence.push(winding);
-        for c in group {
-            winding += c.sign();
-            sequence.push(winding);
-        }
         at.extend([group[0].along(), group[0].along() + 1]);
         let shared = strictness.keep_shared && shared_sheet(field, &edge, &sequence);
         if sequence.iter().any(|w| !(0..=1).contains(w))
@@ -234,17 +228,51 @@ fn deep_edge(
     (needs_inside && !present(true)) || (needs_outside && !present(false))
 }
 
+/// The crossings of one grid line grouped by the grid edge they lie on, each group with the mesh's
+/// winding before, between and after its crossings.
+fn edge_windings(
+    crossings: &[GridCrossing],
+) -> impl Iterator<Item = (&[GridCrossing], Vec<i32>)> + '_ {
+    let mut winding = 0;
+    crossings
+        .chunk_by(|x, y| x.along() == y.along())
+        .map(move |group| {
+            let mut sequence = Vec::with_capacity(group.len() + 1);
+            sequence.push(winding);
+            for c in group {
+                winding += c.sign();
+                sequence.push(winding);
+            }
+            (group, sequence)
+        })
+}
+
 /// Whether the mesh crosses `edge` (with `windings` before, between and after its crossings) as a
 /// sheet thinner than a cell that Θ's own mesh has too: none of the crossings is an overlap, and
 /// Θ's mesh crosses this edge, or one beside it (parallel, one step away), more than once.
-pub(crate) fn shared_sheet(field: &Field, edge: &GridEdge, windings: &[i32]) -> bool {
+fn shared_sheet(field: &Field, edge: &GridEdge, windings: &[i32]) -> bool {
     windings.len() > 2
         && windings.iter().all(|w| (0..=1).contains(w))
-        && ball(1).iter().any(|&o| {
+        && std::iter::once([0; 3]).chain(PARALLEL_EDGES).any(|o| {
             field
                 .crossings_of(&GridEdge::new(offset(edge.corner, o), edge.axis()))
                 .is_some()
         })
+}
+
+/// The cells around every grid edge that the mesh crosses as a sheet Θ's own mesh has too (see
+/// `TopologyOptions::keep_shared_sheets`).
+pub(crate) fn shared_sheet_cells(grid: &MeshGrid, field: &Field) -> FxHashSet<Cell> {
+    let mut cells = FxHashSet::default();
+    for l in 0..grid.crossings.index().len() {
+        for (group, windings) in edge_windings(grid.crossings.of_line(l)) {
+            let edge = GridEdge::new(group[0].corner, group[0].axis());
+            if shared_sheet(field, &edge, &windings) {
+                cells.extend(edge.cells());
+            }
+        }
+    }
+    cells
 }
 
 /// Cells of the vertices of every mesh component that crosses no grid edge.

@@ -23,7 +23,7 @@ use std::time::Instant;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::build::{Built, build};
-use super::classify::{Strictness, dilate, seeds, shared_sheet};
+use super::classify::{Strictness, dilate, seeds, shared_sheet_cells};
 use super::cut::cut;
 use super::face_arcs::Arc;
 use super::field::Field;
@@ -304,31 +304,6 @@ fn verify(
             _ => Vec::new(),
         })
     })
-}
-
-/// The cells around every grid edge that the mesh crosses as a sheet Θ's own mesh has too (see
-/// `TopologyOptions::keep_shared_sheets`).
-fn shared_sheet_cells(grid: &MeshGrid, theta: &Field) -> FxHashSet<Cell> {
-    let mut cells = FxHashSet::default();
-    for l in 0..grid.crossings.index().len() {
-        let mut winding = 0;
-        for group in grid
-            .crossings
-            .of_line(l)
-            .chunk_by(|x, y| x.along() == y.along())
-        {
-            let mut windings = vec![winding];
-            for c in group {
-                winding += c.sign();
-                windings.push(winding);
-            }
-            let edge = GridEdge::new(group[0].corner, group[0].axis());
-            if shared_sheet(theta, &edge, &windings) {
-                cells.extend(edge.cells());
-            }
-        }
-    }
-    cells
 }
 
 /// Cells a point lies in or on.

@@ -267,7 +267,6 @@ impl Field {
         }
     }
 
-    /// Whether a corner is inside (`value < 0`; zero and NaN are outside, as in marching cubes).
     /// Θ that also remembers the grid edges its mesh crosses more than once (see
     /// [`Field::crossings_of`]); `crossings` are that mesh's crossings of the grid.
     pub(crate) fn with_sheets(mut self, crossings: &[GridCrossing]) -> Self {
@@ -286,6 +285,7 @@ impl Field {
         self.sheets.get(edge).copied()
     }
 
+    /// Whether a corner is inside (`value < 0`; zero and NaN are outside, as in marching cubes).
     pub fn inside(&self, corner: Corner) -> bool {
         self.value(corner) < 0.0
     }

@@ -10,6 +10,17 @@ pub(crate) type Cell = [i32; 3];
 /// A grid corner.
 pub(crate) type Corner = [i32; 3];
 
+/// Offsets to the six grid edges parallel to one and a step away from it (along any axis; along
+/// the edge's own axis that is the next edge on its line).
+pub(crate) const PARALLEL_EDGES: [[i32; 3]; 6] = [
+    [1, 0, 0],
+    [-1, 0, 0],
+    [0, 1, 0],
+    [0, -1, 0],
+    [0, 0, 1],
+    [0, 0, -1],
+];
+
 /// The offsets of a cell's 26 neighbours (and itself).
 pub(crate) const NEIGHBOURS: [[i32; 3]; 27] = {
     let mut out = [[0; 3]; 27];

@@ -7,6 +7,7 @@
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::keys::{Cell, GridEdge, NEIGHBOURS};
+use super::subgrid::SMALL_CELLS;
 use crate::grid::GridFrame;
 use crate::mesh::IndexedMesh;
 
@@ -71,8 +72,9 @@ pub(crate) fn mismatched(
         vec![false; theirs.components.len()],
     );
     if !explained.is_empty() {
-        known = small(frame, result, &our_labels, ours.components.len());
+        let our_droplets = small(frame, result, &our_labels, ours.components.len());
         let droplets = small(frame, iso, &their_labels, theirs.components.len());
+        known.clone_from(&our_droplets);
         for (c, labels) in &our_cells {
             if explained.contains(c) {
                 for &l in labels {
@@ -80,7 +82,6 @@ pub(crate) fn mismatched(
                 }
             }
         }
-        let our_droplets = small(frame, result, &our_labels, ours.components.len());
         for near in &mut our_partners {
             near.retain(|&i| !droplets[i as usize]);
         }
@@ -130,7 +131,7 @@ pub(crate) fn mismatched(
 }
 
 /// Per component (`labels` numbering the vertices of `mesh`), whether its bounding box spans at
-/// most [`DROPLET_CELLS`] cells.
+/// most [`SMALL_CELLS`] cells: a droplet, which the sub-grid match settles.
 fn small(frame: &GridFrame, mesh: &IndexedMesh, labels: &[u32], count: usize) -> Vec<bool> {
     let mut boxes = vec![(glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN)); count];
     for (p, &l) in mesh.positions.iter().zip(labels) {
@@ -140,12 +141,9 @@ fn small(frame: &GridFrame, mesh: &IndexedMesh, labels: &[u32], count: usize) ->
     }
     boxes
         .iter()
-        .map(|(lo, hi)| (*hi - *lo).length() <= DROPLET_CELLS * frame.spacing())
+        .map(|(lo, hi)| (*hi - *lo).length() <= SMALL_CELLS * frame.spacing())
         .collect()
 }
-
-/// Components whose bounding-box diagonal is at most this many cells are droplets.
-const DROPLET_CELLS: f32 = 4.0;
 
 #[cfg(test)]
 mod tests {

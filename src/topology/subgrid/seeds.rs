@@ -33,7 +33,7 @@ use crate::geometry::Components;
 use crate::grid::{GridFrame, LatticeMesh, cross_axes, rasterize};
 use crate::mesh::IndexedMesh;
 use crate::topology::classify::dilate;
-use crate::topology::keys::{Cell, NEIGHBOURS};
+use crate::topology::keys::{Cell, NEIGHBOURS, PARALLEL_EDGES};
 use crate::topology::nearest::Survivors;
 
 /// The cells a graft's region starts from.
@@ -80,7 +80,7 @@ pub(super) fn seeds(
     // A sheet both surfaces have, crossing the next parallel edge in one of them, is no difference.
     let shifted = |key: &(Cell, usize), n: u32, other: &FxHashMap<(Cell, usize), u32>| {
         n >= 2
-            && PARALLEL.iter().any(|d| {
+            && PARALLEL_EDGES.iter().any(|d| {
                 let c = [key.0[0] + d[0], key.0[1] + d[1], key.0[2] + d[2]];
                 other.get(&(c, key.1)).copied().unwrap_or(0) == n
             })
@@ -126,16 +126,6 @@ pub(super) fn seeds(
     }
     Ok(Seeds { selected, all })
 }
-
-/// Offsets to the grid edges next to one: one step along any axis.
-const PARALLEL: [[i32; 3]; 6] = [
-    [1, 0, 0],
-    [-1, 0, 0],
-    [0, 1, 0],
-    [0, -1, 0],
-    [0, 0, 1],
-    [0, 0, -1],
-];
 
 /// The cells of the input's edges whose ends lie nearest to different components of `ours`
 /// (none when `ours` is one component).
