@@ -42,6 +42,8 @@ use crate::grid::GridFrame;
 use crate::mesh::{IndexedMesh, degenerate_triangle, min_angle_degrees};
 use crate::project::Bvh;
 use crate::topology::classify::dilate;
+use crate::topology::keys::Cell;
+use rayon::prelude::*;
 
 /// Edge-connected pieces smaller than this many triangles join the region: they are slivers
 /// between region cells, not surface worth keeping apart from the rest.
@@ -163,9 +165,10 @@ pub(super) fn graft(
     } else {
         seeds.selected
     };
+    let mut memo = Memo::new(&frame, ours, theirs);
     for _ in 0..GROWTHS {
         let cells = |points: Vec<Vec3>| points.iter().map(|&p| cell(&frame, p)).collect();
-        let trouble: Vec<[i32; 3]> = match attempt(&frame, &region, ours, theirs) {
+        let trouble: Vec<[i32; 3]> = match attempt(&region, (ours, theirs), &mut memo) {
             Attempt::Hopeless => return Ok(None),
             Attempt::Unpaired(points) => cells(points),
             Attempt::Joined(graft) => {
@@ -208,20 +211,54 @@ enum Attempt {
     Joined(Graft),
 }
 
+/// A pair of rim loops (kept, copied), by their vertices.
+type LoopPair = (Vec<u32>, Vec<u32>);
+
+/// What the tries of one graft share. The sides' vertices do not move between tries, and a
+/// growth changes only the rim loops near it: most loops of one try come back unchanged in the
+/// next, so their gaps and strips are measured and zipped once.
+struct Memo {
+    /// Per side, its vertices (sorted, without repeats) and the cell of each.
+    ours: Vec<(u32, Cell)>,
+    theirs: Vec<(u32, Cell)>,
+    /// The gap of a pair of loops (kept, copied), keyed by their vertices.
+    gaps: FxHashMap<LoopPair, f32>,
+    /// The strip joining a pair of loops, keyed likewise.
+    strips: FxHashMap<LoopPair, Vec<[Corner; 3]>>,
+}
+
+impl Memo {
+    fn new(frame: &GridFrame, ours: &Side, theirs: &Side) -> Self {
+        let cells = |side: &Side| -> Vec<(u32, Cell)> {
+            let mut vertices: Vec<u32> = (0..side.triangles.len())
+                .flat_map(|i| side.corners(i))
+                .collect();
+            vertices.sort_unstable();
+            vertices.dedup();
+            vertices
+                .into_iter()
+                .map(|v| (v, cell(frame, side.mesh.positions[v as usize])))
+                .collect()
+        };
+        Memo {
+            ours: cells(ours),
+            theirs: cells(theirs),
+            gaps: FxHashMap::default(),
+            strips: FxHashMap::default(),
+        }
+    }
+}
+
 /// Steps 2 and 3 of the module comment for one region.
-fn attempt(frame: &GridFrame, region: &[[i32; 3]], ours: &Side, theirs: &Side) -> Attempt {
-    let inside = |side: &Side| -> Vec<bool> {
+fn attempt(region: &[[i32; 3]], (ours, theirs): (&Side, &Side), memo: &mut Memo) -> Attempt {
+    let inside = |side: &Side, cells: &[(u32, Cell)]| -> Vec<bool> {
         let mut at = vec![false; side.mesh.positions.len()];
-        for i in 0..side.triangles.len() {
-            for v in side.corners(i) {
-                at[v as usize] = region
-                    .binary_search(&cell(frame, side.mesh.positions[v as usize]))
-                    .is_ok();
-            }
+        for &(v, c) in cells {
+            at[v as usize] = region.binary_search(&c).is_ok();
         }
         at
     };
-    let (ours_in, theirs_in) = (inside(ours), inside(theirs));
+    let (ours_in, theirs_in) = (inside(ours, &memo.ours), inside(theirs, &memo.theirs));
     let mut kept: Vec<bool> = (0..ours.triangles.len())
         .map(|i| !ours.corners(i).iter().any(|&v| ours_in[v as usize]))
         .collect();
@@ -241,26 +278,53 @@ fn attempt(frame: &GridFrame, region: &[[i32; 3]], ours: &Side, theirs: &Side) -
     else {
         return Attempt::Hopeless;
     };
-    let (pairs, unpaired) = pair_loops(ours.mesh, &our_loops, theirs.mesh, &their_loops);
+    let (pairs, unpaired) = pair_loops(
+        (ours.mesh, &our_loops),
+        (theirs.mesh, &their_loops),
+        &mut memo.gaps,
+    );
     if !unpaired.is_empty() {
         return Attempt::Unpaired(unpaired);
     }
     let (our_normals, their_normals) = (rim_normals(ours, &kept), rim_normals(theirs, &copied));
+    let fresh: Vec<(usize, usize)> = pairs
+        .iter()
+        .copied()
+        .filter(|&(a, c)| {
+            !memo
+                .strips
+                .contains_key(&(our_loops[a].clone(), their_loops[c].clone()))
+        })
+        .collect();
+    let strips: Vec<Vec<[Corner; 3]>> = fresh
+        .par_iter()
+        .map(|&(a, c)| {
+            zip_loops(
+                &Rim {
+                    mesh: ours.mesh,
+                    points: &our_loops[a],
+                    normals: &our_normals,
+                },
+                &Rim {
+                    mesh: theirs.mesh,
+                    points: &their_loops[c],
+                    normals: &their_normals,
+                },
+            )
+        })
+        .collect();
+    for (&(a, c), strip) in fresh.iter().zip(strips) {
+        memo.strips
+            .insert((our_loops[a].clone(), their_loops[c].clone()), strip);
+    }
     let mut zip = Vec::new();
     for (a, c) in pairs {
-        zip_loops(
-            &Rim {
-                mesh: ours.mesh,
-                points: our_loops[a].clone(),
-                normals: &our_normals,
-            },
-            &Rim {
-                mesh: theirs.mesh,
-                points: their_loops[c].clone(),
-                normals: &their_normals,
-            },
-            &mut zip,
-        );
+        if let Some(strip) = memo
+            .strips
+            .get(&(our_loops[a].clone(), their_loops[c].clone()))
+        {
+            zip.extend_from_slice(strip);
+        }
     }
     let chosen = |side: &Side, mask: &[bool]| -> Vec<u32> {
         side.triangles
@@ -455,12 +519,12 @@ fn boundary_loops(side: &Side, mask: &[bool]) -> Option<Vec<Vec<u32>>> {
 
 /// Pairs kept and copied loops that are each other's nearest (mean distance from each vertex of
 /// either to the nearest vertex of the other, among the few nearest by centroid). Returns the
-/// pairs and the points of every loop left without a partner.
+/// pairs and the points of every loop left without a partner. `gaps` holds the gaps of pairs
+/// measured before (keyed by the loops' vertices), and takes the new ones.
 fn pair_loops(
-    ours: &IndexedMesh,
-    our_loops: &[Vec<u32>],
-    theirs: &IndexedMesh,
-    their_loops: &[Vec<u32>],
+    (ours, our_loops): (&IndexedMesh, &[Vec<u32>]),
+    (theirs, their_loops): (&IndexedMesh, &[Vec<u32>]),
+    gaps: &mut FxHashMap<LoopPair, f32>,
 ) -> (Vec<(usize, usize)>, Vec<Vec3>) {
     let points = |mesh: &IndexedMesh, loops: &[Vec<u32>]| -> Vec<Vec<Vec3>> {
         loops
@@ -474,6 +538,36 @@ fn pair_loops(
         a.iter().map(|p| centroid(p)).collect(),
         c.iter().map(|p| centroid(p)).collect(),
     );
+    // The few loops of `to` nearest to loop `i` of `from` by centroid.
+    let candidates = |from: &[Vec3], to: &[Vec3], i: usize| -> Vec<usize> {
+        let mut order: Vec<usize> = (0..to.len()).collect();
+        order.sort_by(|&x, &y| {
+            from[i]
+                .distance(to[x])
+                .total_cmp(&from[i].distance(to[y]))
+                .then(x.cmp(&y))
+        });
+        order.truncate(CANDIDATES);
+        order
+    };
+    let ours_candidates: Vec<Vec<usize>> = (0..a.len()).map(|i| candidates(&ca, &cc, i)).collect();
+    let theirs_candidates: Vec<Vec<usize>> =
+        (0..c.len()).map(|j| candidates(&cc, &ca, j)).collect();
+    let key = |i: usize, j: usize| (our_loops[i].clone(), their_loops[j].clone());
+    let mut wanted: Vec<(usize, usize)> = ours_candidates
+        .iter()
+        .enumerate()
+        .flat_map(|(i, js)| js.iter().map(move |&j| (i, j)))
+        .chain(
+            theirs_candidates
+                .iter()
+                .enumerate()
+                .flat_map(|(j, is)| is.iter().map(move |&i| (i, j))),
+        )
+        .filter(|&(i, j)| !gaps.contains_key(&key(i, j)))
+        .collect();
+    wanted.sort_unstable();
+    wanted.dedup();
     let one_way = |from: &[Vec3], to: &[Vec3]| {
         from.iter()
             .map(|p| {
@@ -484,25 +578,25 @@ fn pair_loops(
             .sum::<f32>()
             / from.len() as f32
     };
-    let gap = |i: usize, j: usize| one_way(&a[i], &c[j]).max(one_way(&c[j], &a[i]));
-    let nearest = |from: &[Vec3], to: &[Vec3], i: usize, score: &dyn Fn(usize) -> f32| {
-        let mut order: Vec<usize> = (0..to.len()).collect();
-        order.sort_by(|&x, &y| {
-            from[i]
-                .distance(to[x])
-                .total_cmp(&from[i].distance(to[y]))
-                .then(x.cmp(&y))
-        });
-        order
-            .into_iter()
-            .take(CANDIDATES)
+    let measured: Vec<f32> = wanted
+        .par_iter()
+        .map(|&(i, j)| one_way(&a[i], &c[j]).max(one_way(&c[j], &a[i])))
+        .collect();
+    for (&(i, j), gap) in wanted.iter().zip(measured) {
+        gaps.insert(key(i, j), gap);
+    }
+    let gap = |i: usize, j: usize| gaps.get(&key(i, j)).copied().unwrap_or(f32::INFINITY);
+    let best = |options: &[usize], score: &dyn Fn(usize) -> f32| {
+        options
+            .iter()
+            .copied()
             .min_by(|&x, &y| score(x).total_cmp(&score(y)).then(x.cmp(&y)))
     };
     let ours_best: Vec<Option<usize>> = (0..a.len())
-        .map(|i| nearest(&ca, &cc, i, &|j| gap(i, j)))
+        .map(|i| best(&ours_candidates[i], &|j| gap(i, j)))
         .collect();
     let theirs_best: Vec<Option<usize>> = (0..c.len())
-        .map(|j| nearest(&cc, &ca, j, &|i| gap(i, j)))
+        .map(|j| best(&theirs_candidates[j], &|i| gap(i, j)))
         .collect();
     let pairs: Vec<(usize, usize)> = ours_best
         .iter()
@@ -527,7 +621,7 @@ fn pair_loops(
 /// One side of a zip: a boundary loop and the normals of the triangles along it.
 struct Rim<'a> {
     mesh: &'a IndexedMesh,
-    points: Vec<u32>,
+    points: &'a [u32],
     /// The normal of the selected triangle holding each free half-edge.
     normals: &'a FxHashMap<(u32, u32), Vec3>,
 }
@@ -551,7 +645,7 @@ const DEGENERATE_COST: f32 = 1.0e6;
 /// pair of vertices round to it again. Among all such strips (each triangle spans one edge of one
 /// loop and a vertex of the other) it takes the one of least cost (shape, and turning against the
 /// boundary), found by dynamic programming over the two loops like optimal contour stitching.
-fn zip_loops(a: &Rim, c: &Rim, zip: &mut Vec<[Corner; 3]>) {
+fn zip_loops(a: &Rim, c: &Rim) -> Vec<[Corner; 3]> {
     // The copied loop runs the other way round the gap.
     let rc: Vec<u32> = c.points.iter().rev().copied().collect();
     let (n, m) = (a.points.len(), rc.len());
@@ -637,7 +731,8 @@ fn zip_loops(a: &Rim, c: &Rim, zip: &mut Vec<[Corner; 3]>) {
             ]);
         }
     }
-    zip.extend(strip.into_iter().rev());
+    strip.reverse();
+    strip
 }
 
 /// The outward normal of the triangle holding each free half-edge of the selected triangles.
