@@ -17,6 +17,7 @@
 //! is accepted where its topology differs from Θ's only in components holding such a sheet, or in
 //! droplets (`mismatch`).
 
+use std::cell::OnceCell;
 use std::rc::Rc;
 use std::time::Instant;
 
@@ -31,7 +32,7 @@ use super::fill::fill;
 use super::isosurface::{isosurface, place_isosurface, signature};
 use super::keys::{Cell, GridEdge, GridFace, cell_face, cell_neighbour};
 use super::mesh_grid::MeshGrid;
-use super::mismatch::mismatched;
+use super::mismatch::{Isosurface, mismatched};
 use super::points::Point;
 use super::record::record;
 use super::region::{Checks, grow};
@@ -89,6 +90,9 @@ fn resample(
         dilate: 0,
         keep_shared: options.keep_shared_sheets,
     };
+    // Built on the first comparison: most steps never compare components.
+    let compared = OnceCell::new();
+    let compared = || compared.get_or_init(|| Isosurface::new(theta.frame(), &iso, &iso_edges));
     let explained = if options.keep_shared_sheets {
         shared_sheet_cells(&grid, theta)
     } else {
@@ -99,7 +103,7 @@ fn resample(
     let accepted = |mesh: &IndexedMesh| {
         signature(mesh) == target
             || (options.keep_shared_sheets
-                && mismatched(theta.frame(), mesh, (&iso, &iso_edges), &explained).is_empty())
+                && mismatched(theta.frame(), mesh, compared(), &explained).is_empty())
     };
     // The components whose topology the previous attempt got wrong, and its seeds.
     let mut focus: Option<(Vec<Cell>, Vec<Cell>)> = None;
@@ -172,7 +176,7 @@ fn resample(
                     report.abandoned.push(Abandoned::Topology);
                     if !focused && steps[step - 1].depth > 0 {
                         let wrong = dilate(
-                            &mismatched(theta.frame(), &built.mesh, (&iso, &iso_edges), &explained),
+                            &mismatched(theta.frame(), &built.mesh, compared(), &explained),
                             1,
                         );
                         if !wrong.is_empty() {
