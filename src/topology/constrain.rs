@@ -143,7 +143,9 @@ fn resample(
             continue;
         }
         let clock = Instant::now();
-        let outcome = match attempt_region(&grid, theta, &region, &mut checks) {
+        // The first attempt's record reads the input's tree: built meanwhile.
+        let attempted = old.prepare_while(|| attempt_region(&grid, theta, &region, &mut checks));
+        let outcome = match attempted {
             Ok((built, splits)) => {
                 let recorded = record(&grid, &built, &splits, (mesh.next_id(), &old))?;
                 let verdict = verify(&built.mesh, &recorded, accepted(&built.mesh));
