@@ -99,11 +99,21 @@ fn resample(
         FxHashSet::default()
     };
     // Whether a surface's topology is what this step must give: Θ's, or, keeping shared sheets,
-    // Θ's but where such a sheet makes the difference.
-    let accepted = |mesh: &IndexedMesh| {
-        signature(mesh) == target
-            || (options.keep_shared_sheets
-                && mismatched(theta.frame(), mesh, compared(), &explained).is_empty())
+    // Θ's but where such a sheet makes the difference. Where it is not, the cells of the
+    // components that differ if they were compared, which a failed attempt reuses.
+    let accepted = |mesh: &IndexedMesh| -> Result<(), Option<Vec<Cell>>> {
+        if signature(mesh) == target {
+            return Ok(());
+        }
+        if !options.keep_shared_sheets {
+            return Err(None);
+        }
+        let wrong = mismatched(theta.frame(), mesh, compared(), &explained);
+        if wrong.is_empty() {
+            Ok(())
+        } else {
+            Err(Some(wrong))
+        }
     };
     // The components whose topology the previous attempt got wrong, and its seeds.
     let mut focus: Option<(Vec<Cell>, Vec<Cell>)> = None;
@@ -133,7 +143,7 @@ fn resample(
         report.region_cells = region.len();
         report.classify += clock.elapsed();
         if region.is_empty() {
-            if accepted(&input) {
+            if accepted(&input).is_ok() {
                 report.kept = input.positions.len();
                 report.euler = signature(&input);
                 report.total = start.elapsed();
@@ -148,8 +158,9 @@ fn resample(
         let outcome = match attempted {
             Ok((built, splits)) => {
                 let recorded = record(&grid, &built, &splits, (mesh.next_id(), &old))?;
-                let verdict = verify(&built.mesh, &recorded, accepted(&built.mesh));
-                Ok((built, recorded, verdict))
+                let judged = accepted(&built.mesh);
+                let verdict = verify(&built.mesh, &recorded, judged.is_ok());
+                Ok((built, recorded, verdict, judged))
             }
             Err(points) => Err(points),
         };
@@ -162,7 +173,7 @@ fn resample(
                 });
                 extra.extend(cells);
             }
-            Ok((built, recorded, verdict)) => match verdict {
+            Ok((built, recorded, verdict, judged)) => match verdict {
                 Ok(surface) => {
                     report.resampling = Resampling::Local {
                         attempt: attempt - 1,
@@ -177,10 +188,11 @@ fn resample(
                 Err(Failure::Topology) => {
                     report.abandoned.push(Abandoned::Topology);
                     if !focused && steps[step - 1].depth > 0 {
-                        let wrong = dilate(
-                            &mismatched(theta.frame(), &built.mesh, compared(), &explained),
-                            1,
-                        );
+                        let wrong = match judged {
+                            Err(Some(wrong)) => wrong,
+                            _ => mismatched(theta.frame(), &built.mesh, compared(), &explained),
+                        };
+                        let wrong = dilate(&wrong, 1);
                         if !wrong.is_empty() {
                             focus = Some((wrong, tried));
                         }
