@@ -54,8 +54,12 @@ fn cells_of(cells: impl Iterator<Item = Cell>, labels: &[u32]) -> Vec<(Cell, u32
 /// sorted, without repeats. Shifting sorted cells by one offset keeps them sorted, so each of
 /// the 27 offsets is one merge of the two lists, without a lookup per cell.
 fn near_pairs(ours: &[(Cell, u32)], theirs: &[(Cell, u32)]) -> Vec<(u32, u32)> {
+    // The end of the run of entries sharing `list[from]`'s cell: a cell holds few components.
     let run = |list: &[(Cell, u32)], from: usize| {
-        from + list[from..].partition_point(|x| x.0 == list[from].0)
+        from + list[from..]
+            .iter()
+            .take_while(|x| x.0 == list[from].0)
+            .count()
     };
     let mut pairs = Vec::new();
     for d in NEIGHBOURS {
