@@ -43,7 +43,7 @@ impl Mesh {
     /// Builds the half-edge structure from a closed, manifold, consistently oriented indexed mesh.
     /// Persistent ids come from `mesh.ids` when present, else are `0..n`.
     pub fn from_indexed(mesh: &IndexedMesh) -> Result<Mesh, MeshError> {
-        mesh.validate()?;
+        let edges = mesh.validated_edges()?;
         let ids = match &mesh.ids {
             Some(ids) if ids.len() == mesh.positions.len() => ids.clone(),
             Some(ids) => {
@@ -76,7 +76,7 @@ impl Mesh {
         }
         let next_id = sorted.last().map_or(0, |&m| m + 1);
         let origin: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
-        let twin = twins_of(&mesh.sorted_edges(), &mesh.triangles);
+        let twin = twins_of(&edges, &mesh.triangles);
         let mut vertex_half_edge = vec![INVALID; mesh.positions.len()];
         for (h, &v) in origin.iter().enumerate() {
             if vertex_half_edge[v as usize] == INVALID {

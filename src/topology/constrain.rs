@@ -17,6 +17,7 @@
 //! is accepted where its topology differs from Θ's only in components holding such a sheet, or in
 //! droplets (`mismatch`).
 
+use std::cell::OnceCell;
 use std::rc::Rc;
 use std::time::Instant;
 
@@ -31,7 +32,7 @@ use super::fill::fill;
 use super::isosurface::{isosurface, place_isosurface, signature};
 use super::keys::{Cell, GridEdge, GridFace, cell_face, cell_neighbour};
 use super::mesh_grid::MeshGrid;
-use super::mismatch::mismatched;
+use super::mismatch::{Isosurface, mismatched};
 use super::points::Point;
 use super::record::record;
 use super::region::{Checks, grow};
@@ -89,17 +90,30 @@ fn resample(
         dilate: 0,
         keep_shared: options.keep_shared_sheets,
     };
+    // Built on the first comparison: most steps never compare components.
+    let compared = OnceCell::new();
+    let compared = || compared.get_or_init(|| Isosurface::new(theta.frame(), &iso, &iso_edges));
     let explained = if options.keep_shared_sheets {
         shared_sheet_cells(&grid, theta)
     } else {
         FxHashSet::default()
     };
     // Whether a surface's topology is what this step must give: Θ's, or, keeping shared sheets,
-    // Θ's but where such a sheet makes the difference.
-    let accepted = |mesh: &IndexedMesh| {
-        signature(mesh) == target
-            || (options.keep_shared_sheets
-                && mismatched(theta.frame(), mesh, (&iso, &iso_edges), &explained).is_empty())
+    // Θ's but where such a sheet makes the difference. Where it is not, the cells of the
+    // components that differ if they were compared, which a failed attempt reuses.
+    let accepted = |mesh: &IndexedMesh| -> Result<(), Option<Vec<Cell>>> {
+        if signature(mesh) == target {
+            return Ok(());
+        }
+        if !options.keep_shared_sheets {
+            return Err(None);
+        }
+        let wrong = mismatched(theta.frame(), mesh, compared(), &explained);
+        if wrong.is_empty() {
+            Ok(())
+        } else {
+            Err(Some(wrong))
+        }
     };
     // The components whose topology the previous attempt got wrong, and its seeds.
     let mut focus: Option<(Vec<Cell>, Vec<Cell>)> = None;
@@ -129,7 +143,7 @@ fn resample(
         report.region_cells = region.len();
         report.classify += clock.elapsed();
         if region.is_empty() {
-            if accepted(&input) {
+            if accepted(&input).is_ok() {
                 report.kept = input.positions.len();
                 report.euler = signature(&input);
                 report.total = start.elapsed();
@@ -139,11 +153,14 @@ fn resample(
             continue;
         }
         let clock = Instant::now();
-        let outcome = match attempt_region(&grid, theta, &region, &mut checks) {
+        // The first attempt's record reads the input's tree: built meanwhile.
+        let attempted = old.prepare_while(|| attempt_region(&grid, theta, &region, &mut checks));
+        let outcome = match attempted {
             Ok((built, splits)) => {
                 let recorded = record(&grid, &built, &splits, (mesh.next_id(), &old))?;
-                let verdict = verify(&built.mesh, &recorded, accepted(&built.mesh));
-                Ok((built, recorded, verdict))
+                let judged = accepted(&built.mesh);
+                let verdict = verify(&built.mesh, &recorded, judged.is_ok());
+                Ok((built, recorded, verdict, judged))
             }
             Err(points) => Err(points),
         };
@@ -156,7 +173,7 @@ fn resample(
                 });
                 extra.extend(cells);
             }
-            Ok((built, recorded, verdict)) => match verdict {
+            Ok((built, recorded, verdict, judged)) => match verdict {
                 Ok(surface) => {
                     report.resampling = Resampling::Local {
                         attempt: attempt - 1,
@@ -171,10 +188,11 @@ fn resample(
                 Err(Failure::Topology) => {
                     report.abandoned.push(Abandoned::Topology);
                     if !focused && steps[step - 1].depth > 0 {
-                        let wrong = dilate(
-                            &mismatched(theta.frame(), &built.mesh, (&iso, &iso_edges), &explained),
-                            1,
-                        );
+                        let wrong = match judged {
+                            Err(Some(wrong)) => wrong,
+                            _ => mismatched(theta.frame(), &built.mesh, compared(), &explained),
+                        };
+                        let wrong = dilate(&wrong, 1);
                         if !wrong.is_empty() {
                             focus = Some((wrong, tried));
                         }

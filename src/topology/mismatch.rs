@@ -4,66 +4,104 @@
 //! then counts every difference as deep, but first only in these components' cells rather than
 //! everywhere — on a fluid's rippled surface, everywhere is most of the surface.
 
-use rustc_hash::{FxHashMap, FxHashSet};
+use rustc_hash::FxHashSet;
 
-use super::keys::{Cell, GridEdge, NEIGHBOURS};
+use super::keys::{Cell, GridEdge};
 use super::subgrid::SMALL_CELLS;
 use crate::grid::GridFrame;
-use crate::mesh::IndexedMesh;
+use crate::mesh::{IndexedMesh, Topology};
+
+/// Θ's isosurface as [`mismatched`] compares results with it: its components, the cells each
+/// lies in and which are droplets. Θ is the same for every attempt of one step, so this is built
+/// once per step rather than once per comparison.
+pub(crate) struct Isosurface {
+    topology: Topology,
+    cells: Vec<(Cell, u32)>,
+    droplets: Vec<bool>,
+}
+
+impl Isosurface {
+    /// From Θ's isosurface `iso` (its connectivity, one vertex on each grid edge of `edges`).
+    pub(crate) fn new(frame: &GridFrame, iso: &IndexedMesh, edges: &[GridEdge]) -> Self {
+        let (topology, labels) = iso.topology_with_labels();
+        // A vertex of the isosurface lies on its grid edge, in the cells around the edge's corner.
+        let cells = cells_of(edges.iter().map(|e| e.corner), &labels);
+        let droplets = small(frame, iso, &labels, topology.components.len());
+        Self {
+            topology,
+            cells,
+            droplets,
+        }
+    }
+}
+
+/// The pairs (cell, component) of points in `cells` numbered by `labels`, one label per point;
+/// sorted, without repeats.
+fn cells_of(cells: impl Iterator<Item = Cell>, labels: &[u32]) -> Vec<(Cell, u32)> {
+    let mut at: Vec<(Cell, u32)> = cells
+        .zip(labels)
+        .filter(|&(_, &l)| l != u32::MAX)
+        .map(|(c, &l)| (c, l))
+        .collect();
+    at.sort_unstable();
+    at.dedup();
+    at
+}
+
+/// The pairs (component of `ours`, component of `theirs`) with cells in or next to each other's,
+/// sorted, without repeats. Cells sort by x, then y, then z, so for each of the nine x and y
+/// offsets the neighbours of a cell are one contiguous range (three values of z) in `theirs`,
+/// and the ranges of cells in sorted order move forward: nine passes over the two lists, without
+/// a lookup per cell.
+fn near_pairs(ours: &[(Cell, u32)], theirs: &[(Cell, u32)]) -> Vec<(u32, u32)> {
+    let mut pairs = Vec::new();
+    for dx in -1..=1 {
+        for dy in -1..=1 {
+            let mut from = 0;
+            for &([x, y, z], r) in ours {
+                let (lo, hi) = ([x + dx, y + dy, z - 1], [x + dx, y + dy, z + 1]);
+                while from < theirs.len() && theirs[from].0 < lo {
+                    from += 1;
+                }
+                pairs.extend(
+                    theirs[from..]
+                        .iter()
+                        .take_while(|t| t.0 <= hi)
+                        .map(|&(_, t)| (r, t)),
+                );
+            }
+        }
+    }
+    pairs.sort_unstable();
+    pairs.dedup();
+    pairs
+}
 
 /// The cells (sorted, without repeats) of the vertices of every component of `result` and of Θ's
-/// isosurface `iso` (its connectivity, one vertex on each grid edge of `edges`) that does not pair
-/// with exactly one component of the other, lying in the same or neighbouring cells, of the same
-/// Euler characteristic.
+/// isosurface `iso` that does not pair with exactly one component of the other, lying in the same
+/// or neighbouring cells, of the same Euler characteristic.
 pub(crate) fn mismatched(
     frame: &GridFrame,
     result: &IndexedMesh,
-    (iso, edges): (&IndexedMesh, &[GridEdge]),
+    iso: &Isosurface,
     explained: &FxHashSet<Cell>,
 ) -> Vec<Cell> {
     let (ours, our_labels) = result.topology_with_labels();
-    let (theirs, their_labels) = iso.topology_with_labels();
-    let cells_of = |cells: &mut dyn Iterator<Item = Cell>, labels: &[u32]| {
-        let mut at: FxHashMap<Cell, Vec<u32>> = FxHashMap::default();
-        for (c, &l) in cells.zip(labels) {
-            if l != u32::MAX {
-                let list = at.entry(c).or_default();
-                if !list.contains(&l) {
-                    list.push(l);
-                }
-            }
-        }
-        at
-    };
+    let (theirs, their_cells) = (&iso.topology, &iso.cells);
     let our_cells = cells_of(
-        &mut result
+        result
             .positions
             .iter()
             .map(|p| frame.to_grid(*p).map(|x| x.floor() as i32)),
         &our_labels,
     );
-    // A vertex of the isosurface lies on its grid edge, in the cells around the edge's corner.
-    let their_cells = cells_of(&mut edges.iter().map(|e| e.corner), &their_labels);
     // The components of the other surface in or next to each component's cells.
-    let partners = |own: &FxHashMap<Cell, Vec<u32>>,
-                    other: &FxHashMap<Cell, Vec<u32>>,
-                    count: usize|
-     -> Vec<FxHashSet<u32>> {
-        let mut near: Vec<FxHashSet<u32>> = vec![FxHashSet::default(); count];
-        for (c, labels) in own {
-            for d in NEIGHBOURS {
-                let n = [c[0] + d[0], c[1] + d[1], c[2] + d[2]];
-                if let Some(found) = other.get(&n) {
-                    for &l in labels {
-                        near[l as usize].extend(found.iter().copied());
-                    }
-                }
-            }
-        }
-        near
-    };
-    let mut our_partners = partners(&our_cells, &their_cells, ours.components.len());
-    let mut their_partners = partners(&their_cells, &our_cells, theirs.components.len());
+    let mut our_partners: Vec<Vec<u32>> = vec![Vec::new(); ours.components.len()];
+    let mut their_partners: Vec<Vec<u32>> = vec![Vec::new(); theirs.components.len()];
+    for (r, i) in near_pairs(&our_cells, their_cells) {
+        our_partners[r as usize].push(i);
+        their_partners[i as usize].push(r);
+    }
     // A difference the caller knows the cause of (a sheet thinner than a cell that both surfaces
     // have, which Θ cannot hold) leaves its components, and Θ's next to them, alone; so do
     // droplets, which the caller matches below the grid too, and which take no part in pairing.
@@ -73,13 +111,11 @@ pub(crate) fn mismatched(
     );
     if !explained.is_empty() {
         let our_droplets = small(frame, result, &our_labels, ours.components.len());
-        let droplets = small(frame, iso, &their_labels, theirs.components.len());
+        let droplets = &iso.droplets;
         known.clone_from(&our_droplets);
-        for (c, labels) in &our_cells {
+        for (c, l) in &our_cells {
             if explained.contains(c) {
-                for &l in labels {
-                    known[l as usize] = true;
-                }
+                known[*l as usize] = true;
             }
         }
         for near in &mut our_partners {
@@ -94,11 +130,11 @@ pub(crate) fn mismatched(
         }
     }
     let paired = |r: usize| -> Option<usize> {
-        let &i = our_partners[r].iter().next()?;
-        let i = i as usize;
-        (our_partners[r].len() == 1
-            && their_partners[i].len() == 1
-            && ours.components[r].euler == theirs.components[i].euler)
+        let i = match our_partners[r][..] {
+            [i] => i as usize,
+            _ => return None,
+        };
+        (their_partners[i].len() == 1 && ours.components[r].euler == theirs.components[i].euler)
             .then_some(i)
     };
     let mut ours_off = vec![true; ours.components.len()];
@@ -117,13 +153,9 @@ pub(crate) fn mismatched(
     }
     let mut out: Vec<Cell> = our_cells
         .iter()
-        .filter(|(_, labels)| labels.iter().any(|&l| ours_off[l as usize]))
-        .chain(
-            their_cells
-                .iter()
-                .filter(|(_, labels)| labels.iter().any(|&l| theirs_off[l as usize])),
-        )
-        .map(|(&c, _)| c)
+        .filter(|&&(_, l)| ours_off[l as usize])
+        .chain(their_cells.iter().filter(|&&(_, l)| theirs_off[l as usize]))
+        .map(|&(c, _)| c)
         .collect();
     out.sort_unstable();
     out.dedup();
@@ -173,7 +205,12 @@ mod tests {
                 axis: 0,
             })
             .collect();
-        mismatched(&frame(), result, (iso, &edges), explained)
+        mismatched(
+            &frame(),
+            result,
+            &Isosurface::new(&frame(), iso, &edges),
+            explained,
+        )
     }
 
     fn join(a: &IndexedMesh, b: &IndexedMesh) -> IndexedMesh {
@@ -183,6 +220,32 @@ mod tests {
         both.triangles
             .extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
         both
+    }
+
+    #[test]
+    fn near_pairs_are_every_pair_of_cells_at_most_one_step_apart() {
+        // Scattered cells, some repeated, of several components.
+        let list = |seed: i32, count: u32| -> Vec<(Cell, u32)> {
+            let points = (0..60).map(|k: i32| {
+                let h = (k * 7919 + seed * 104729).rem_euclid(1000);
+                [h % 10, (h / 10) % 10, (h / 100) % 10]
+            });
+            let labels: Vec<u32> = (0..60).map(|k| (k * 13 + seed as u32) % count).collect();
+            cells_of(points, &labels)
+        };
+        let (ours, theirs) = (list(1, 12), list(2, 15));
+        let mut brute: Vec<(u32, u32)> = Vec::new();
+        for &(c, r) in &ours {
+            for &(n, t) in &theirs {
+                if (0..3).all(|a| (c[a] - n[a]).abs() <= 1) {
+                    brute.push((r, t));
+                }
+            }
+        }
+        brute.sort_unstable();
+        brute.dedup();
+        assert!(!brute.is_empty() && brute.len() < 12 * 15);
+        assert_eq!(near_pairs(&ours, &theirs), brute);
     }
 
     #[test]

@@ -17,6 +17,7 @@
 
 use std::rc::Rc;
 
+use rayon::prelude::*;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::face_arcs::{Arc, face_arcs};
@@ -64,6 +65,33 @@ impl<'g, 'm> Checks<'g, 'm> {
         self.edges.insert(edge, fits);
         fits
     }
+
+    /// Tests, in parallel, the faces and edges among these that are not known yet. Each test
+    /// depends on its face or edge alone, so the memo holds the same answers whichever thread
+    /// or order computed them.
+    fn test_all(&mut self, mut faces: Vec<GridFace>, mut edges: Vec<GridEdge>) {
+        let (grid, field) = (self.grid, self.field);
+        faces.retain(|f| !self.faces.contains_key(f));
+        faces.par_sort_unstable();
+        faces.dedup();
+        let tested: Vec<Option<Vec<Arc>>> = faces
+            .par_iter()
+            .map(|face| face_arcs(grid, face).filter(|arcs| pairs_follow_rule(field, face, arcs)))
+            .collect();
+        self.faces.extend(
+            faces
+                .into_iter()
+                .zip(tested.into_iter().map(|a| a.map(Rc::new))),
+        );
+        edges.retain(|e| !self.edges.contains_key(e));
+        edges.par_sort_unstable();
+        edges.dedup();
+        let fits: Vec<bool> = edges
+            .par_iter()
+            .map(|&edge| edge_fits(grid, field, edge))
+            .collect();
+        self.edges.extend(edges.into_iter().zip(fits));
+    }
 }
 
 /// Whether the mesh and Θ agree on a grid edge (see the module docs).
@@ -103,26 +131,48 @@ pub(crate) fn pairs_follow_rule(field: &Field, face: &GridFace, arcs: &[Arc]) ->
 }
 
 /// The least region containing `seeds` closed under the front rules (see the module docs).
+///
+/// Grown in waves: the faces and edges a wave of new cells needs are tested together, in
+/// parallel, then the wave is applied in order. The region is the least closed one whatever the
+/// order, so the waves change only how fast it is found.
 pub(crate) fn grow(seeds: &[Cell], checks: &mut Checks) -> FxHashSet<Cell> {
     let mut region: FxHashSet<Cell> = seeds.iter().copied().collect();
     let mut queue: Vec<Cell> = seeds.to_vec();
     queue.sort_unstable();
     queue.dedup();
-    while let Some(cell) = queue.pop() {
-        for f in 0..6 {
-            let across = cell_neighbour(cell, f);
-            if !region.contains(&across) && checks.face(cell_face(cell, f)).is_none() {
-                region.insert(across);
-                queue.push(across);
+    while !queue.is_empty() {
+        let wave = std::mem::take(&mut queue);
+        let known = &region;
+        let faces: Vec<GridFace> = wave
+            .iter()
+            .flat_map(|&cell| {
+                (0..6)
+                    .filter(move |&f| !known.contains(&cell_neighbour(cell, f)))
+                    .map(move |f| cell_face(cell, f))
+            })
+            .collect();
+        let edges: Vec<GridEdge> = wave
+            .iter()
+            .flat_map(|&cell| (0..12).map(move |e| cell_edge(cell, e)))
+            .filter(|edge| edge.cells().iter().any(|c| !known.contains(c)))
+            .collect();
+        checks.test_all(faces, edges);
+        for cell in wave {
+            for f in 0..6 {
+                let across = cell_neighbour(cell, f);
+                if !region.contains(&across) && checks.face(cell_face(cell, f)).is_none() {
+                    region.insert(across);
+                    queue.push(across);
+                }
             }
-        }
-        for e in 0..12 {
-            let edge = cell_edge(cell, e);
-            let around = edge.cells();
-            if around.iter().any(|c| !region.contains(c)) && !checks.edge(edge) {
-                for c in around {
-                    if region.insert(c) {
-                        queue.push(c);
+            for e in 0..12 {
+                let edge = cell_edge(cell, e);
+                let around = edge.cells();
+                if around.iter().any(|c| !region.contains(c)) && !checks.edge(edge) {
+                    for c in around {
+                        if region.insert(c) {
+                            queue.push(c);
+                        }
                     }
                 }
             }

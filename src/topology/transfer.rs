@@ -42,15 +42,27 @@ impl<'a> Transfer<'a> {
         if let Some(tree) = self.bvh.get() {
             return Ok(tree.as_ref());
         }
-        let built = if self.triangles.is_empty() {
-            None
-        } else {
-            Some(Bvh::build(&IndexedMesh::new(
-                self.positions.to_vec(),
-                self.triangles.to_vec(),
-            ))?)
-        };
+        let built = tree_of(self.positions, &self.triangles)?;
         Ok(self.bvh.get_or_init(|| built).as_ref())
+    }
+
+    /// Runs `meanwhile` on this thread while the tree, if not built yet, is built on the thread
+    /// pool: a caller about to query overlaps the build with the work before its first query. A
+    /// build that fails is left to that query, which then reports it.
+    pub fn prepare_while<R>(&self, meanwhile: impl FnOnce() -> R) -> R {
+        if self.bvh.get().is_some() {
+            return meanwhile();
+        }
+        let (positions, triangles) = (self.positions, &*self.triangles);
+        let mut built = None;
+        let result = rayon::in_place_scope(|scope| {
+            scope.spawn(|_| built = Some(tree_of(positions, triangles)));
+            meanwhile()
+        });
+        if let Some(Ok(tree)) = built {
+            self.bvh.get_or_init(|| tree);
+        }
+        result
     }
 
     /// For each of `points`, the corners of the nearest triangle with their barycentric weights at
@@ -73,4 +85,15 @@ impl<'a> Transfer<'a> {
             })
             .collect())
     }
+}
+
+/// The tree of `triangles` over `positions`; none without triangles.
+fn tree_of(positions: &[Vec3], triangles: &[[u32; 3]]) -> Result<Option<Bvh>, ProjectError> {
+    if triangles.is_empty() {
+        return Ok(None);
+    }
+    Ok(Some(Bvh::build(&IndexedMesh::new(
+        positions.to_vec(),
+        triangles.to_vec(),
+    ))?))
 }
