@@ -172,7 +172,7 @@ pub(super) fn graft(
             Attempt::Hopeless => return Ok(None),
             Attempt::Unpaired(points) => cells(points),
             Attempt::Joined(graft) => {
-                match check(&graft, ours.mesh, (theirs.mesh, &input), bounds)? {
+                match check(&graft, ours.mesh, theirs, bounds)? {
                     Verdict::Meets => return Ok(Some(graft)),
                     // The rim may cut through a selected difference: the region grows by one
                     // around all of them first, which keeps the graft local.
@@ -826,15 +826,14 @@ fn apart(part: &IndexedMesh, labels: &[u32], spacing: f32) -> Vec<Vec3> {
         .collect()
 }
 
-/// Step 4 of the module comment.
-/// `theirs` is the input mesh, `input` the component grafted in (as a mesh of its own).
+/// Step 4 of the module comment; `theirs` is the input's component grafted in.
 fn check(
     graft: &Graft,
     ours: &IndexedMesh,
-    (theirs, input): (&IndexedMesh, &IndexedMesh),
+    theirs: &Side,
     bounds: &Bounds,
 ) -> Result<Verdict, SubgridError> {
-    let part = assemble(graft, ours, theirs);
+    let part = assemble(graft, ours, theirs.mesh);
     if part.validate().is_err() {
         return Ok(Verdict::Fails);
     }
@@ -848,19 +847,39 @@ fn check(
     if topology.components.len() != 1 || topology.euler() != bounds.euler {
         return Ok(Verdict::Fails);
     }
+    // The copied triangles are the input's own, so no sample of theirs lies off either surface:
+    // only the kept triangles and the strips are measured against the input, and only the
+    // input's triangles left out against the result.
+    let joined = assemble(
+        &Graft {
+            kept: graft.kept.clone(),
+            copied: Vec::new(),
+            zip: graft.zip.clone(),
+        },
+        ours,
+        theirs.mesh,
+    );
+    let mut copied = graft.copied.iter().peekable();
+    let left: Vec<u32> = theirs
+        .triangles
+        .iter()
+        .copied()
+        .filter(|&t| copied.next_if_eq(&&t).is_none())
+        .collect();
+    let left = submesh(theirs.mesh, &left);
     let mut far = far_components(
         bounds.backend,
         bounds.target_bvh,
-        &part,
-        &vec![0; part.positions.len()],
+        &joined,
+        &vec![0; joined.positions.len()],
         1,
         bounds.max_distance,
     )?;
     far.extend(far_components(
         bounds.backend,
         &Bvh::build(&part)?,
-        input,
-        &vec![0; input.positions.len()],
+        &left,
+        &vec![0; left.positions.len()],
         1,
         bounds.max_distance,
     )?);
