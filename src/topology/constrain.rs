@@ -91,8 +91,8 @@ fn resample(
         keep_shared: options.keep_shared_sheets,
     };
     // Built on the first comparison: most steps never compare components.
-    let compared = OnceCell::new();
-    let compared = || compared.get_or_init(|| Isosurface::new(theta.frame(), &iso, &iso_edges));
+    let isosurface = OnceCell::new();
+    let compared = || isosurface.get_or_init(|| Isosurface::new(theta.frame(), &iso, &iso_edges));
     let explained = if options.keep_shared_sheets {
         shared_sheet_cells(&grid, theta)
     } else {

@@ -287,14 +287,15 @@ fn attempt(region: &[[i32; 3]], (ours, theirs): (&Side, &Side), memo: &mut Memo)
         return Attempt::Unpaired(unpaired);
     }
     let (our_normals, their_normals) = (rim_normals(ours, &kept), rim_normals(theirs, &copied));
+    let keys: Vec<LoopPair> = pairs
+        .iter()
+        .map(|&(a, c)| (our_loops[a].clone(), their_loops[c].clone()))
+        .collect();
     let fresh: Vec<(usize, usize)> = pairs
         .iter()
-        .copied()
-        .filter(|&(a, c)| {
-            !memo
-                .strips
-                .contains_key(&(our_loops[a].clone(), their_loops[c].clone()))
-        })
+        .zip(&keys)
+        .filter(|(_, key)| !memo.strips.contains_key(*key))
+        .map(|(&pair, _)| pair)
         .collect();
     let strips: Vec<Vec<[Corner; 3]>> = fresh
         .par_iter()
@@ -317,15 +318,10 @@ fn attempt(region: &[[i32; 3]], (ours, theirs): (&Side, &Side), memo: &mut Memo)
         memo.strips
             .insert((our_loops[a].clone(), their_loops[c].clone()), strip);
     }
-    let mut zip = Vec::new();
-    for (a, c) in pairs {
-        if let Some(strip) = memo
-            .strips
-            .get(&(our_loops[a].clone(), their_loops[c].clone()))
-        {
-            zip.extend_from_slice(strip);
-        }
-    }
+    let zip: Vec<[Corner; 3]> = keys
+        .iter()
+        .flat_map(|key| memo.strips[key].iter().copied())
+        .collect();
     let chosen = |side: &Side, mask: &[bool]| -> Vec<u32> {
         side.triangles
             .iter()
@@ -564,10 +560,18 @@ fn pair_loops(
                 .enumerate()
                 .flat_map(|(j, is)| is.iter().map(move |&i| (i, j))),
         )
-        .filter(|&(i, j)| !gaps.contains_key(&key(i, j)))
         .collect();
     wanted.sort_unstable();
     wanted.dedup();
+    // The gap of every wanted pair, by loop indices: from `gaps` where measured before.
+    let mut known: FxHashMap<(usize, usize), f32> = FxHashMap::default();
+    wanted.retain(|&(i, j)| match gaps.get(&key(i, j)) {
+        Some(&gap) => {
+            known.insert((i, j), gap);
+            false
+        }
+        None => true,
+    });
     let one_way = |from: &[Vec3], to: &[Vec3]| {
         from.iter()
             .map(|p| {
@@ -584,8 +588,9 @@ fn pair_loops(
         .collect();
     for (&(i, j), gap) in wanted.iter().zip(measured) {
         gaps.insert(key(i, j), gap);
+        known.insert((i, j), gap);
     }
-    let gap = |i: usize, j: usize| gaps.get(&key(i, j)).copied().unwrap_or(f32::INFINITY);
+    let gap = |i: usize, j: usize| known[&(i, j)];
     let best = |options: &[usize], score: &dyn Fn(usize) -> f32| {
         options
             .iter()
@@ -749,19 +754,22 @@ fn rim_normals(side: &Side, mask: &[bool]) -> FxHashMap<(u32, u32), Vec3> {
     out
 }
 
-/// The grafted component as a mesh of its own, with its vertices in [`Corner`] order.
-fn assemble(graft: &Graft, ours: &IndexedMesh, theirs: &IndexedMesh) -> IndexedMesh {
-    let triangles: Vec<[Corner; 3]> = graft
-        .kept
+/// The triangles `kept` of `ours`, `copied` of `theirs` and the strips `zip` as a mesh of their
+/// own, with its vertices in [`Corner`] order.
+fn assemble(
+    (kept, copied, zip): (&[u32], &[u32], &[[Corner; 3]]),
+    ours: &IndexedMesh,
+    theirs: &IndexedMesh,
+) -> IndexedMesh {
+    let triangles: Vec<[Corner; 3]> = kept
         .iter()
         .map(|&t| ours.triangles[t as usize].map(Corner::Ours))
         .chain(
-            graft
-                .copied
+            copied
                 .iter()
                 .map(|&t| theirs.triangles[t as usize].map(Corner::Theirs)),
         )
-        .chain(graft.zip.iter().copied())
+        .chain(zip.iter().copied())
         .collect();
     let mut corners: Vec<Corner> = triangles.iter().flatten().copied().collect();
     corners.sort_unstable();
@@ -833,7 +841,7 @@ fn check(
     theirs: &Side,
     bounds: &Bounds,
 ) -> Result<Verdict, SubgridError> {
-    let part = assemble(graft, ours, theirs.mesh);
+    let part = assemble((&graft.kept, &graft.copied, &graft.zip), ours, theirs.mesh);
     if part.validate().is_err() {
         return Ok(Verdict::Fails);
     }
@@ -850,15 +858,7 @@ fn check(
     // The copied triangles are the input's own, so no sample of theirs lies off either surface:
     // only the kept triangles and the strips are measured against the input, and only the
     // input's triangles left out against the result.
-    let joined = assemble(
-        &Graft {
-            kept: graft.kept.clone(),
-            copied: Vec::new(),
-            zip: graft.zip.clone(),
-        },
-        ours,
-        theirs.mesh,
-    );
+    let joined = assemble((&graft.kept, &[], &graft.zip), ours, theirs.mesh);
     let mut copied = graft.copied.iter().peekable();
     let left: Vec<u32> = theirs
         .triangles
