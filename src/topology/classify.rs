@@ -39,7 +39,8 @@ pub(crate) struct Strictness {
     pub faces: bool,
     /// Grow the seeds by this many cells in every direction.
     pub dilate: u32,
-    /// A grid edge the mesh crosses as many times as Θ's own mesh did is no difference (see
+    /// A grid edge the mesh crosses as a sheet, without overlap, where Θ's own mesh crosses the
+    /// same edge or one beside it more than once, is no difference (see
     /// `TopologyOptions::keep_shared_sheets`).
     pub keep_shared: bool,
 }
@@ -253,11 +254,9 @@ fn edge_windings(
 fn shared_sheet(field: &Field, edge: &GridEdge, windings: &[i32]) -> bool {
     windings.len() > 2
         && windings.iter().all(|w| (0..=1).contains(w))
-        && std::iter::once([0; 3]).chain(PARALLEL_EDGES).any(|o| {
-            field
-                .crossings_of(&GridEdge::new(offset(edge.corner, o), edge.axis()))
-                .is_some()
-        })
+        && std::iter::once([0; 3])
+            .chain(PARALLEL_EDGES)
+            .any(|o| field.sheet_on(&GridEdge::new(offset(edge.corner, o), edge.axis())))
 }
 
 /// The cells around every grid edge that the mesh crosses as a sheet Θ's own mesh has too (see

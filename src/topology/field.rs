@@ -10,7 +10,7 @@
 
 use glam::Vec3;
 use rayon::prelude::*;
-use rustc_hash::FxHashMap;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::TopologyError;
 use super::keys::{Cell, Corner, GridEdge, cell_corner, step};
@@ -22,9 +22,9 @@ pub struct Field {
     frame: GridFrame,
     values: Values,
     signs: SignLines,
-    /// The grid edges that the mesh Θ was sampled from crosses more than once, with how many
-    /// times: sheets, strands and gaps thinner than a cell, which Θ's values cannot hold.
-    sheets: FxHashMap<GridEdge, u32>,
+    /// The grid edges that the mesh Θ was sampled from crosses more than once: sheets, strands
+    /// and gaps thinner than a cell, which Θ's values cannot hold.
+    sheets: FxHashSet<GridEdge>,
 }
 
 #[derive(Debug, Clone)]
@@ -150,7 +150,7 @@ impl Field {
             frame,
             values: Values::Box { lo, dims, values },
             signs: SignLines::default(),
-            sheets: FxHashMap::default(),
+            sheets: FxHashSet::default(),
         };
         if !dims.contains(&0) {
             // Every edge from one corner before the box to one past it: beyond the box is outside.
@@ -205,7 +205,7 @@ impl Field {
                 far: far.abs(),
             },
             signs: SignLines::default(),
-            sheets: FxHashMap::default(),
+            sheets: FxHashSet::default(),
         };
         let signs = match &field.values {
             // A closed mesh's three sweeps agree on every corner, so each line's own runs tell
@@ -268,21 +268,24 @@ impl Field {
     }
 
     /// Θ that also remembers the grid edges its mesh crosses more than once (see
-    /// [`Field::crossings_of`]); `crossings` are that mesh's crossings of the grid.
+    /// [`Field::sheet_on`]); `crossings` are that mesh's crossings of the grid.
     pub(crate) fn with_sheets(mut self, crossings: &[GridCrossing]) -> Self {
         let mut counts: FxHashMap<GridEdge, u32> = FxHashMap::default();
         for c in crossings {
             *counts.entry(GridEdge::new(c.corner, c.axis())).or_insert(0) += 1;
         }
-        counts.retain(|_, n| *n >= 2);
-        self.sheets = counts;
+        self.sheets = counts
+            .into_iter()
+            .filter(|&(_, n)| n >= 2)
+            .map(|(edge, _)| edge)
+            .collect();
         self
     }
 
-    /// How many times the mesh Θ was sampled from crosses `edge`, where that is more than once;
-    /// `None` where it is not, or where Θ did not come from a mesh.
-    pub(crate) fn crossings_of(&self, edge: &GridEdge) -> Option<u32> {
-        self.sheets.get(edge).copied()
+    /// Whether the mesh Θ was sampled from crosses `edge` more than once (false where Θ did not
+    /// come from a mesh).
+    pub(crate) fn sheet_on(&self, edge: &GridEdge) -> bool {
+        self.sheets.contains(edge)
     }
 
     /// Whether a corner is inside (`value < 0`; zero and NaN are outside, as in marching cubes).

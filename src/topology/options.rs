@@ -8,7 +8,8 @@ pub struct TopologyOptions {
     /// re-sampled anyway: the guarantee does not depend on this value.
     pub depth: u32,
     /// Keep the sheets, strands and gaps thinner than a cell that the mesh and the mesh Θ was
-    /// sampled from both have (the same grid edge crossed as many times by both), rather than
+    /// sampled from both have (a grid edge the mesh crosses more than once, without overlap,
+    /// where Θ's mesh crosses that edge or one beside it more than once), rather than
     /// re-sampling them to Θ's isosurface, which cannot hold them; components whose topology then
     /// differs from Θ's only through such a sheet are accepted. For a caller that matches the
     /// input's own topology below the grid afterwards (see `subgrid`): without it every thin sheet
