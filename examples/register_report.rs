@@ -62,13 +62,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for it in &stage.iterations {
             let t = &it.times;
             println!(
-                "  {:.4e} → {:.4e}  kept {} pruned {} cg {} fact {}  corr {:.1?} asm {:.1?} fact {:.1?} solve {:.1?} eval {:.1?}",
+                "  {:.4e} → {:.4e}  kept {} pruned {} cg {} fact {} retries {} λ {:.1e}  corr {:.1?} asm {:.1?} fact {:.1?} solve {:.1?} eval {:.1?}",
                 it.energy_before,
                 it.energy,
                 it.kept,
                 it.pruned,
                 it.cg_iterations,
                 it.factorizations,
+                it.retries,
+                it.damping,
                 t.correspondence,
                 t.assembly,
                 t.factorization,

@@ -96,6 +96,9 @@ pub struct CoarseSolver<'a> {
     stale: bool,
     factorizations: usize,
     retries: usize,
+    /// Whether this iteration's first trial is expected to be rejected (see
+    /// [`CoarseSolver::iterate`]).
+    expect_retry: bool,
     report: CoarseReport,
 }
 
@@ -195,6 +198,7 @@ impl<'a> CoarseSolver<'a> {
             stale: true,
             factorizations: 0,
             retries: 0,
+            expect_retry: false,
             surface,
             report,
         })
@@ -446,7 +450,16 @@ impl<'a> CoarseSolver<'a> {
         fresh: &mut Vec<Option<FitTarget>>,
         carried: &mut Carried,
     ) -> Result<(), RegisterError> {
+        // A stage's first trial starts from a factor of an earlier state and is rejected more
+        // often than not; its second from the factor of the first's retry. After that, trials
+        // tend to go as the last one went: rejected again and again where the surfaces move far.
+        let mut retried = false;
         while stage.iterations.len() < self.options.max_stage_iterations {
+            self.expect_retry = match stage.iterations.len() {
+                0 => true,
+                1 => false,
+                _ => retried,
+            };
             let Carried {
                 mut times,
                 factorizations,
@@ -458,6 +471,7 @@ impl<'a> CoarseSolver<'a> {
             self.retries = 0;
             let mut cg_iterations = 0;
             let outcome = self.iterate(*e, &mut times, &mut cg_iterations)?;
+            retried = self.retries > 0;
             let damping = match outcome {
                 Outcome::Accepted { damping } => damping,
                 Outcome::Converged => {
@@ -603,6 +617,14 @@ impl<'a> CoarseSolver<'a> {
     }
 
     /// One damped Gauss-Newton step from the current state (energy `e`).
+    ///
+    /// Where the surfaces move far (splashes on real fluid frames), iteration after iteration
+    /// tries the lowered damping first, sees the energy rise, and succeeds at the damping raised
+    /// back, which needs a new factor. So after an iteration that needed a retry, while the next
+    /// trial solves from the old factor and evaluates, the factor its retry would need is computed
+    /// on a thread of its own ([`CoarseSolver::ahead`]); a rejected trial takes it instead of
+    /// factoring, an accepted one drops it. The steps taken are the ones the sequential retry
+    /// takes, bit for bit; where trials are accepted (quiet frames) nothing is computed ahead.
     fn iterate(
         &mut self,
         e: f64,
@@ -612,6 +634,9 @@ impl<'a> CoarseSolver<'a> {
         let t = Instant::now();
         self.assemble_gradient();
         times.assembly += t.elapsed();
+        // Whether the factor, and `values`, are of the current state: a trial from such a factor
+        // needs few conjugate-gradient iterations, and nothing is computed ahead of it.
+        let mut fresh = false;
         loop {
             if self.stale || self.refactor_after == 0 {
                 let t = Instant::now();
@@ -620,17 +645,34 @@ impl<'a> CoarseSolver<'a> {
                 let t = Instant::now();
                 self.factor()?;
                 times.factorization += t.elapsed();
+                fresh = true;
             }
-            let t = Instant::now();
-            *cg_iterations += self.solve()?;
-            times.solve += t.elapsed();
-            let t = Instant::now();
-            let trial: Vec<f64> = self.x.iter().zip(&self.delta).map(|(a, d)| a + d).collect();
-            let trial_deformed = self.model.deform(&trial);
-            let w = &self.weights;
-            let trial_e = energy(&self.model, &trial, &trial_deformed, &self.current, w).total(w);
-            times.evaluation += t.elapsed();
+            let ahead = if fresh || !self.expect_retry {
+                None
+            } else {
+                self.ahead(times)?
+            };
+            let (trial, retry) = std::thread::scope(|scope| {
+                let running = ahead.map(|(job, undamped)| {
+                    let lambda = job.lambda;
+                    (lambda, undamped, scope.spawn(move || job.run()))
+                });
+                let trial = self.trial(times, cg_iterations);
+                let retry = running.map(|(lambda, undamped, handle)| match handle.join() {
+                    Ok(done) => (lambda, undamped, done),
+                    Err(panic) => std::panic::resume_unwind(panic),
+                });
+                (trial, retry)
+            });
+            let (trial, trial_deformed, trial_e) = match trial {
+                Ok(trial) => trial,
+                Err(error) => {
+                    self.drop_retry(retry);
+                    return Err(error);
+                }
+            };
             if trial_e.is_finite() && trial_e <= e {
+                self.drop_retry(retry);
                 let damping = self.lambda;
                 self.lambda = if self.lambda > self.scale * FIRST_DAMPING {
                     self.lambda / 10.0
@@ -642,14 +684,113 @@ impl<'a> CoarseSolver<'a> {
                 return Ok(Outcome::Accepted { damping });
             }
             if trial_e.is_finite() && trial_e - e <= ROUNDING * e {
+                self.drop_retry(retry);
                 return Ok(Outcome::Converged);
             }
             if !self.raise() {
+                self.drop_retry(retry);
                 return Ok(Outcome::Stuck);
             }
+            fresh = self.take_retry(retry, times);
+        }
+    }
+
+    /// The step from the current factor, and where it leads: unknowns, deformed samples, energy.
+    fn trial(
+        &mut self,
+        times: &mut StepTimes,
+        cg_iterations: &mut usize,
+    ) -> Result<(Vec<f64>, Vec<DVec3>, f64), RegisterError> {
+        let t = Instant::now();
+        *cg_iterations += self.solve()?;
+        times.solve += t.elapsed();
+        let t = Instant::now();
+        let trial: Vec<f64> = self.x.iter().zip(&self.delta).map(|(a, d)| a + d).collect();
+        let trial_deformed = self.model.deform(&trial);
+        let w = &self.weights;
+        let trial_e = energy(&self.model, &trial, &trial_deformed, &self.current, w).total(w);
+        times.evaluation += t.elapsed();
+        Ok((trial, trial_deformed, trial_e))
+    }
+
+    /// The factorization a rejected trial would do next: the matrix at the current state damped
+    /// as [`CoarseSolver::raise`] would damp it, with the undamped matrix; none when the retries
+    /// are spent or every iteration factors anyway.
+    fn ahead(
+        &mut self,
+        times: &mut StepTimes,
+    ) -> Result<Option<(NextFactor, Vec<f64>)>, RegisterError> {
+        if self.refactor_after == 0 || self.retries + 1 > MAX_RETRIES {
+            return Ok(None);
+        }
+        let t = Instant::now();
+        let lambda = if self.lambda > 0.0 {
+            self.lambda * 10.0
+        } else {
+            self.scale * FIRST_DAMPING
+        };
+        let mut undamped = vec![0.0; self.pattern.row_idx.len()];
+        assemble(
+            &self.pattern,
+            &self.model,
+            &self.x,
+            &self.fit,
+            &self.weights,
+            &mut undamped,
+        );
+        let cholesky = match self.spare.pop() {
+            Some(c) => c,
+            None => self.cholesky.sibling()?,
+        };
+        let job = NextFactor {
+            pattern: Arc::clone(&self.pattern),
+            values: undamped.clone(),
+            scale: mean_diagonal(&self.pattern, &undamped),
+            lambda,
+            cholesky,
+        };
+        times.assembly += t.elapsed();
+        Ok(Some((job, undamped)))
+    }
+
+    /// After [`CoarseSolver::raise`]: the factor computed ahead replaces the one `factor` would
+    /// compute, if it was computed at this damping and its pivots were positive; otherwise its
+    /// buffers go back and the retry factors as usual. Whether it was taken.
+    fn take_retry(&mut self, retry: Option<Retry>, times: &mut StepTimes) -> bool {
+        let Some((lambda, undamped, (prepared, time))) = retry else {
+            return false;
+        };
+        match prepared {
+            Ok(prepared) if lambda == self.lambda => {
+                let used = std::mem::replace(&mut self.cholesky, prepared.cholesky);
+                self.spare.push(used);
+                self.values = undamped;
+                self.scale = prepared.scale;
+                self.factorizations += 1;
+                self.stale = false;
+                times.factorization += time;
+                return true;
+            }
+            Ok(prepared) => self.spare.push(prepared.cholesky),
+            Err(cholesky) => self.spare.push(cholesky),
+        }
+        false
+    }
+
+    /// A factor computed ahead that no retry needs: its buffers go back.
+    fn drop_retry(&mut self, retry: Option<Retry>) {
+        if let Some((_, _, (prepared, _))) = retry {
+            self.spare.push(match prepared {
+                Ok(prepared) => prepared.cholesky,
+                Err(cholesky) => cholesky,
+            });
         }
     }
 }
+
+/// A retry's factor computed ahead: its damping, the undamped matrix, and what
+/// [`NextFactor::run`] returned.
+type Retry = (f64, Vec<f64>, (Result<Prepared, Cholesky>, Duration));
 
 /// What a coarse stage is built on: the source's surface, its deformation graph and the vertices
 /// carrying `E_fit`.
