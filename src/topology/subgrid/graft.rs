@@ -646,6 +646,9 @@ const FOLD_COST: f32 = 100.0;
 /// number of folds, so the strip avoids it wherever another exists.
 const DEGENERATE_COST: f32 = 1.0e6;
 
+/// Rows of [`zip_loops`]' table whose step costs are computed together, in parallel.
+const ZIP_BLOCK: usize = 64;
+
 /// Joins the kept loop `a` and the copied loop `c` with a strip of triangles, from their closest
 /// pair of vertices round to it again. Among all such strips (each triangle spans one edge of one
 /// loop and a vertex of the other) it takes the one of least cost (shape, and turning against the
@@ -670,51 +673,78 @@ fn zip_loops(a: &Rim, c: &Rim) -> Vec<[Corner; 3]> {
     let (i0, j0, _) = start;
     let va = |i: usize| a.points[(i0 + i) % n];
     let vc = |j: usize| rc[(j0 + j) % m];
-    let cost = |p: [Vec3; 3], edge: (u32, u32), normals: &FxHashMap<(u32, u32), Vec3>| {
+    // Each loop's corners from the start round to it again, and the normal of the boundary
+    // triangle on each of its edges, looked up once rather than at every cell of the table.
+    let ours: Vec<Vec3> = (0..=n).map(|i| pa(i0 + i)).collect();
+    let theirs: Vec<Vec3> = (0..=m).map(|j| pc(j0 + j)).collect();
+    let our_normals: Vec<Option<Vec3>> = (0..n)
+        .map(|i| a.normals.get(&(va(i + 1), va(i))).copied())
+        .collect();
+    let their_normals: Vec<Option<Vec3>> = (0..m)
+        .map(|j| c.normals.get(&(vc(j), vc(j + 1))).copied())
+        .collect();
+    let cost = |p: [Vec3; 3], boundary: Option<Vec3>| {
         let normal = (p[1] - p[0]).cross(p[2] - p[0]);
-        let folded = normals.get(&edge).is_some_and(|o| normal.dot(*o) < 0.0);
+        let folded = boundary.is_some_and(|o| normal.dot(o) < 0.0);
         let degenerate = degenerate_triangle(p[0], p[1], p[2]);
         shape_cost(min_angle_degrees(p[0], p[1], p[2]))
             + if folded { FOLD_COST } else { 0.0 }
             + if degenerate { DEGENERATE_COST } else { 0.0 }
     };
     // Advancing along ours adds [a_i, a_i+1, c_j]; its kept neighbour holds (a_i+1, a_i).
-    let step_ours = |i: usize, j: usize| {
-        cost(
-            [pa(i0 + i), pa(i0 + i + 1), pc(j0 + j)],
-            (va(i + 1), va(i)),
-            a.normals,
-        )
-    };
+    let step_ours =
+        |i: usize, j: usize| cost([ours[i], ours[i + 1], theirs[j]], our_normals[i]);
     // Advancing along theirs adds [c_j, a_i, c_j+1]; its copied neighbour holds (c_j, c_j+1).
-    let step_theirs = |i: usize, j: usize| {
-        cost(
-            [pc(j0 + j), pa(i0 + i), pc(j0 + j + 1)],
-            (vc(j), vc(j + 1)),
-            c.normals,
-        )
-    };
+    let step_theirs =
+        |i: usize, j: usize| cost([theirs[j], ours[i], theirs[j + 1]], their_normals[j]);
+    // The table is filled a block of rows at a time: the block's step costs (most of the work)
+    // in parallel, then its rows in order, each from the one before, so only two rows of sums are
+    // held; the choices are kept whole for the walk back.
     let width = m + 1;
-    let mut best = vec![f32::INFINITY; (n + 1) * width];
     let mut from_ours = vec![false; (n + 1) * width];
-    best[0] = 0.0;
-    for i in 0..=n {
-        for j in 0..=m {
-            let here = i * width + j;
-            if i > 0 {
-                let c = best[here - width] + step_ours(i - 1, j);
-                if c < best[here] {
-                    best[here] = c;
-                    from_ours[here] = true;
+    let mut above = vec![f32::INFINITY; width];
+    let mut row = vec![f32::INFINITY; width];
+    let block = ZIP_BLOCK.min(n + 1);
+    let (mut down, mut across) = (vec![0.0f32; block * width], vec![0.0f32; block * width]);
+    for first in (0..=n).step_by(block) {
+        let rows = block.min(n + 1 - first);
+        down[..rows * width]
+            .par_chunks_mut(width)
+            .zip(across[..rows * width].par_chunks_mut(width))
+            .enumerate()
+            .for_each(|(k, (down, across))| {
+                let i = first + k;
+                for j in 0..=m {
+                    if i > 0 {
+                        down[j] = step_ours(i - 1, j);
+                    }
+                    if j > 0 {
+                        across[j] = step_theirs(i, j - 1);
+                    }
                 }
-            }
-            if j > 0 {
-                let c = best[here - 1] + step_theirs(i, j - 1);
-                if c < best[here] {
-                    best[here] = c;
-                    from_ours[here] = false;
+            });
+        for k in 0..rows {
+            let i = first + k;
+            for j in 0..=m {
+                let here = i * width + j;
+                let mut best = if i == 0 && j == 0 { 0.0 } else { f32::INFINITY };
+                if i > 0 {
+                    let c = above[j] + down[k * width + j];
+                    if c < best {
+                        best = c;
+                        from_ours[here] = true;
+                    }
                 }
+                if j > 0 {
+                    let c = row[j - 1] + across[k * width + j];
+                    if c < best {
+                        best = c;
+                        from_ours[here] = false;
+                    }
+                }
+                row[j] = best;
             }
+            std::mem::swap(&mut above, &mut row);
         }
     }
     let (mut i, mut j) = (n, m);
