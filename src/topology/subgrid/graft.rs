@@ -692,8 +692,7 @@ fn zip_loops(a: &Rim, c: &Rim) -> Vec<[Corner; 3]> {
             + if degenerate { DEGENERATE_COST } else { 0.0 }
     };
     // Advancing along ours adds [a_i, a_i+1, c_j]; its kept neighbour holds (a_i+1, a_i).
-    let step_ours =
-        |i: usize, j: usize| cost([ours[i], ours[i + 1], theirs[j]], our_normals[i]);
+    let step_ours = |i: usize, j: usize| cost([ours[i], ours[i + 1], theirs[j]], our_normals[i]);
     // Advancing along theirs adds [c_j, a_i, c_j+1]; its copied neighbour holds (c_j, c_j+1).
     let step_theirs =
         |i: usize, j: usize| cost([theirs[j], ours[i], theirs[j + 1]], their_normals[j]);
