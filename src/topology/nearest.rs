@@ -9,7 +9,16 @@ pub(crate) struct Survivors {
     cell: f32,
     buckets: FxHashMap<IVec3, Vec<(u32, Vec3)>>,
     bounds: (IVec3, IVec3),
+    /// Every point, for a query whose nearest survivor lies beyond [`RINGS`] rings.
+    all: Vec<(u32, Vec3)>,
 }
+
+/// Rings of buckets a query searches before it compares every point instead. Ring `r` holds
+/// about 24·r² buckets, so a survivor many cells away (the vertices of a whole component
+/// replaced at once, on a fluid frame of tens of thousands of vertices) cost hundreds of
+/// thousands of bucket lookups per query; beyond this many rings one pass over the points is
+/// cheaper, and gives the same answer.
+const RINGS: i32 = 6;
 
 impl Survivors {
     /// `points` are `(vertex, position)`; `cell` is the bucket size (the grid spacing Δ).
@@ -21,10 +30,8 @@ impl Survivors {
         };
         let mut buckets: FxHashMap<IVec3, Vec<(u32, Vec3)>> = FxHashMap::default();
         let mut bounds = (IVec3::MAX, IVec3::MIN);
-        for (v, p) in points {
-            if !p.is_finite() {
-                continue;
-            }
+        let all: Vec<(u32, Vec3)> = points.into_iter().filter(|(_, p)| p.is_finite()).collect();
+        for &(v, p) in &all {
             let key = (p / cell).floor().as_ivec3();
             bounds = (bounds.0.min(key), bounds.1.max(key));
             buckets.entry(key).or_default().push((v, p));
@@ -33,6 +40,7 @@ impl Survivors {
             cell,
             buckets,
             bounds,
+            all,
         }
     }
 
@@ -48,6 +56,12 @@ impl Survivors {
             .max((self.bounds.1 - centre).abs())
             .max_element();
         let mut best: Option<(f32, u32)> = None;
+        let closer = |best: &mut Option<(f32, u32)>, (v, q): (u32, Vec3)| {
+            let d = (q - p).length_squared();
+            if best.is_none_or(|(bd, bv)| d < bd || (d == bd && v < bv)) {
+                *best = Some((d, v));
+            }
+        };
         for ring in 0..=reach {
             // Every point of ring r + 1 or beyond is at least r cells away.
             if let Some((d, _)) = best
@@ -55,12 +69,16 @@ impl Survivors {
             {
                 break;
             }
+            if ring > RINGS {
+                best = None;
+                for &point in &self.all {
+                    closer(&mut best, point);
+                }
+                break;
+            }
             for key in shell(centre, ring) {
-                for &(v, q) in self.buckets.get(&key).into_iter().flatten() {
-                    let d = (q - p).length_squared();
-                    if best.is_none_or(|(bd, bv)| d < bd || (d == bd && v < bv)) {
-                        best = Some((d, v));
-                    }
+                for &point in self.buckets.get(&key).into_iter().flatten() {
+                    closer(&mut best, point);
                 }
             }
         }
@@ -100,20 +118,23 @@ mod tests {
                 )
             })
             .collect();
-        let survivors = Survivors::new(points.clone(), 0.7);
-        for k in 0..100 {
-            let k = k as f32;
-            let p = Vec3::new((k * 0.9).cos() * 12.0, k * 0.1 - 5.0, (k * 2.1).sin() * 3.0);
-            let brute = points
-                .iter()
-                .min_by(|a, b| {
-                    (a.1 - p)
-                        .length_squared()
-                        .total_cmp(&(b.1 - p).length_squared())
-                        .then(a.0.cmp(&b.0))
-                })
-                .map(|&(v, _)| v);
-            assert_eq!(survivors.nearest(p), brute, "query {p}");
+        // Buckets of 0.7 find most answers within a few rings; of 0.05, beyond the rings searched.
+        for cell in [0.7, 0.05] {
+            let survivors = Survivors::new(points.clone(), cell);
+            for k in 0..100 {
+                let k = k as f32;
+                let p = Vec3::new((k * 0.9).cos() * 12.0, k * 0.1 - 5.0, (k * 2.1).sin() * 3.0);
+                let brute = points
+                    .iter()
+                    .min_by(|a, b| {
+                        (a.1 - p)
+                            .length_squared()
+                            .total_cmp(&(b.1 - p).length_squared())
+                            .then(a.0.cmp(&b.0))
+                    })
+                    .map(|&(v, _)| v);
+                assert_eq!(survivors.nearest(p), brute, "query {p}, buckets of {cell}");
+            }
         }
         assert_eq!(Survivors::new([], 1.0).nearest(Vec3::ZERO), None);
     }
