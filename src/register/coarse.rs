@@ -96,9 +96,6 @@ pub struct CoarseSolver<'a> {
     stale: bool,
     factorizations: usize,
     retries: usize,
-    /// Whether this iteration's first trial is expected to be rejected (see
-    /// [`CoarseSolver::iterate`]).
-    expect_retry: bool,
     report: CoarseReport,
 }
 
@@ -198,7 +195,6 @@ impl<'a> CoarseSolver<'a> {
             stale: true,
             factorizations: 0,
             retries: 0,
-            expect_retry: false,
             surface,
             report,
         })
@@ -358,13 +354,53 @@ impl<'a> CoarseSolver<'a> {
         if self.retries > MAX_RETRIES {
             return false;
         }
-        self.lambda = if self.lambda > 0.0 {
+        self.lambda = self.raised();
+        self.stale = true;
+        true
+    }
+
+    /// The damping of the next retry: tenfold, or the first retry's share of the matrix's scale.
+    fn raised(&self) -> f64 {
+        if self.lambda > 0.0 {
             self.lambda * 10.0
         } else {
             self.scale * FIRST_DAMPING
-        };
-        self.stale = true;
-        true
+        }
+    }
+
+    /// Factorization buffers for a factor computed on another thread: a spare, or new ones.
+    fn spare_cholesky(&mut self) -> Result<Cholesky, RegisterError> {
+        match self.spare.pop() {
+            Some(c) => Ok(c),
+            None => self.cholesky.sibling(),
+        }
+    }
+
+    /// The factorization, into `cholesky`, of the matrix at the current unknowns with fit
+    /// matrices `fit` and weights `weights`, damped by `lambda`: to run on another thread.
+    fn factor_job(
+        &self,
+        cholesky: Cholesky,
+        fit: &[[[f64; 3]; 3]],
+        weights: &CoarseWeights,
+        lambda: f64,
+    ) -> NextFactor {
+        let mut values = vec![0.0; self.pattern.row_idx.len()];
+        assemble(
+            &self.pattern,
+            &self.model,
+            &self.x,
+            fit,
+            weights,
+            &mut values,
+        );
+        NextFactor {
+            pattern: Arc::clone(&self.pattern),
+            scale: mean_diagonal(&self.pattern, &values),
+            lambda,
+            values,
+            cholesky,
+        }
     }
 
     fn total(&self) -> f64 {
@@ -455,7 +491,7 @@ impl<'a> CoarseSolver<'a> {
         // tend to go as the last one went: rejected again and again where the surfaces move far.
         let mut retried = false;
         while stage.iterations.len() < self.options.max_stage_iterations {
-            self.expect_retry = match stage.iterations.len() {
+            let expect_retry = match stage.iterations.len() {
                 0 => true,
                 1 => false,
                 _ => retried,
@@ -470,7 +506,7 @@ impl<'a> CoarseSolver<'a> {
             self.factorizations = factorizations;
             self.retries = 0;
             let mut cg_iterations = 0;
-            let outcome = self.iterate(*e, &mut times, &mut cg_iterations)?;
+            let outcome = self.iterate(*e, expect_retry, &mut times, &mut cg_iterations)?;
             retried = self.retries > 0;
             let damping = match outcome {
                 Outcome::Accepted { damping } => damping,
@@ -584,30 +620,12 @@ impl<'a> CoarseSolver<'a> {
             return Ok(());
         }
         let t = Instant::now();
-        let cholesky = match self.spare.pop() {
-            Some(c) => c,
-            None => self.cholesky.sibling()?,
-        };
+        let cholesky = self.spare_cholesky()?;
         let weights = CoarseWeights {
             reg: alpha_reg,
             ..self.weights
         };
-        let mut values = vec![0.0; self.pattern.row_idx.len()];
-        assemble(
-            &self.pattern,
-            &self.model,
-            &self.x,
-            &self.fit_matrices(),
-            &weights,
-            &mut values,
-        );
-        let job = NextFactor {
-            pattern: Arc::clone(&self.pattern),
-            scale: mean_diagonal(&self.pattern, &values),
-            lambda: self.lambda,
-            values,
-            cholesky,
-        };
+        let job = self.factor_job(cholesky, &self.fit_matrices(), &weights, self.lambda);
         times.assembly += t.elapsed();
         running.push(Running {
             alpha_reg,
@@ -620,7 +638,7 @@ impl<'a> CoarseSolver<'a> {
     ///
     /// Where the surfaces move far (splashes on real fluid frames), iteration after iteration
     /// tries the lowered damping first, sees the energy rise, and succeeds at the damping raised
-    /// back, which needs a new factor. So after an iteration that needed a retry, while the next
+    /// back, which needs a new factor. So where the caller expects a retry (`expect_retry`), while the
     /// trial solves from the old factor and evaluates, the factor its retry would need is computed
     /// on a thread of its own ([`CoarseSolver::ahead`]); a rejected trial takes it instead of
     /// factoring, an accepted one drops it. The steps taken are the ones the sequential retry
@@ -628,6 +646,7 @@ impl<'a> CoarseSolver<'a> {
     fn iterate(
         &mut self,
         e: f64,
+        expect_retry: bool,
         times: &mut StepTimes,
         cg_iterations: &mut usize,
     ) -> Result<Outcome, RegisterError> {
@@ -647,7 +666,7 @@ impl<'a> CoarseSolver<'a> {
                 times.factorization += t.elapsed();
                 fresh = true;
             }
-            let ahead = if fresh || !self.expect_retry {
+            let ahead = if fresh || !expect_retry {
                 None
             } else {
                 self.ahead(times)?
@@ -724,31 +743,9 @@ impl<'a> CoarseSolver<'a> {
             return Ok(None);
         }
         let t = Instant::now();
-        let lambda = if self.lambda > 0.0 {
-            self.lambda * 10.0
-        } else {
-            self.scale * FIRST_DAMPING
-        };
-        let mut undamped = vec![0.0; self.pattern.row_idx.len()];
-        assemble(
-            &self.pattern,
-            &self.model,
-            &self.x,
-            &self.fit,
-            &self.weights,
-            &mut undamped,
-        );
-        let cholesky = match self.spare.pop() {
-            Some(c) => c,
-            None => self.cholesky.sibling()?,
-        };
-        let job = NextFactor {
-            pattern: Arc::clone(&self.pattern),
-            values: undamped.clone(),
-            scale: mean_diagonal(&self.pattern, &undamped),
-            lambda,
-            cholesky,
-        };
+        let cholesky = self.spare_cholesky()?;
+        let job = self.factor_job(cholesky, &self.fit, &self.weights, self.raised());
+        let undamped = job.values.clone();
         times.assembly += t.elapsed();
         Ok(Some((job, undamped)))
     }
