@@ -588,14 +588,18 @@ impl<'a> CoarseSolver<'a> {
         carried.times.factorization += time;
         carried.factorizations += 1;
         match prepared {
-            Ok(prepared) => {
-                let used = std::mem::replace(&mut self.cholesky, prepared.cholesky);
-                self.spare.push(used);
-                self.scale = prepared.scale;
-                self.stale = false;
-            }
+            Ok(prepared) => self.adopt(prepared),
             Err(cholesky) => self.spare.push(cholesky),
         }
+    }
+
+    /// Makes a factor computed on another thread the current one; the buffers it replaces become
+    /// a spare.
+    fn adopt(&mut self, prepared: Prepared) {
+        let used = std::mem::replace(&mut self.cholesky, prepared.cholesky);
+        self.spare.push(used);
+        self.scale = prepared.scale;
+        self.stale = false;
     }
 
     /// Starts factoring, on a thread of `scope`, the matrix of the stage `ahead` stages on,
@@ -759,28 +763,23 @@ impl<'a> CoarseSolver<'a> {
         };
         match prepared {
             Ok(prepared) if lambda == self.lambda => {
-                let used = std::mem::replace(&mut self.cholesky, prepared.cholesky);
-                self.spare.push(used);
+                self.adopt(prepared);
                 self.values = undamped;
-                self.scale = prepared.scale;
                 self.factorizations += 1;
-                self.stale = false;
                 times.factorization += time;
-                return true;
+                true
             }
-            Ok(prepared) => self.spare.push(prepared.cholesky),
-            Err(cholesky) => self.spare.push(cholesky),
+            unused => {
+                self.spare.push(buffers(unused));
+                false
+            }
         }
-        false
     }
 
     /// A factor computed ahead that no retry needs: its buffers go back.
     fn drop_retry(&mut self, retry: Option<Retry>) {
         if let Some((_, _, (prepared, _))) = retry {
-            self.spare.push(match prepared {
-                Ok(prepared) => prepared.cholesky,
-                Err(cholesky) => cholesky,
-            });
+            self.spare.push(buffers(prepared));
         }
     }
 }
@@ -788,6 +787,14 @@ impl<'a> CoarseSolver<'a> {
 /// A retry's factor computed ahead: its damping, the undamped matrix, and what
 /// [`NextFactor::run`] returned.
 type Retry = (f64, Vec<f64>, (Result<Prepared, Cholesky>, Duration));
+
+/// The factorization buffers of what [`NextFactor::run`] returned.
+fn buffers(result: Result<Prepared, Cholesky>) -> Cholesky {
+    match result {
+        Ok(prepared) => prepared.cholesky,
+        Err(cholesky) => cholesky,
+    }
+}
 
 /// What a coarse stage is built on: the source's surface, its deformation graph and the vertices
 /// carrying `E_fit`.
