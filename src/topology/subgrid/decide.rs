@@ -68,19 +68,21 @@ pub(super) fn decide(
                 .flat_map(|c| our_triangles[c].iter().copied())
                 .collect();
             let staying = graft::submesh(current, &stays);
-            (
-                far_components(backend, bvh, current, our_labels, ours.len(), max_distance)?,
-                if staying.triangles.is_empty() {
-                    theirs
-                        .iter()
-                        .map(|c| {
-                            c.vertices
-                                .iter()
-                                .map(|&v| target.positions[v as usize])
-                                .collect()
-                        })
-                        .collect()
-                } else {
+            // The two directions are independent: each measures on its own core.
+            let (our_far, their_far) = rayon::join(
+                || far_components(backend, bvh, current, our_labels, ours.len(), max_distance),
+                || -> Result<Vec<Vec<Vec3>>, SubgridError> {
+                    if staying.triangles.is_empty() {
+                        return Ok(theirs
+                            .iter()
+                            .map(|c| {
+                                c.vertices
+                                    .iter()
+                                    .map(|&v| target.positions[v as usize])
+                                    .collect()
+                            })
+                            .collect());
+                    }
                     far_components(
                         backend,
                         &Bvh::build(&staying)?,
@@ -88,9 +90,10 @@ pub(super) fn decide(
                         target_labels,
                         theirs.len(),
                         max_distance,
-                    )?
+                    )
                 },
-            )
+            );
+            (our_far?, their_far?)
         }
         _ => (vec![Vec::new(); ours.len()], vec![Vec::new(); theirs.len()]),
     };

@@ -258,24 +258,31 @@ fn attempt(region: &[[i32; 3]], (ours, theirs): (&Side, &Side), memo: &mut Memo)
         }
         at
     };
-    let (ours_in, theirs_in) = (inside(ours, &memo.ours), inside(theirs, &memo.theirs));
-    let mut kept: Vec<bool> = (0..ours.triangles.len())
-        .map(|i| !ours.corners(i).iter().any(|&v| ours_in[v as usize]))
-        .collect();
-    let mut copied: Vec<bool> = (0..theirs.triangles.len())
-        .map(|i| theirs.corners(i).iter().all(|&v| theirs_in[v as usize]))
-        .collect();
-    for _ in 0..ROUNDS {
-        if !clean(ours, theirs, &mut kept, &mut copied) {
-            break;
-        }
-    }
+    // The two sides are cleaned and traced independently, each on its own core.
+    let ((kept, our_loops), (copied, their_loops)) = rayon::join(
+        || {
+            let ours_in = inside(ours, &memo.ours);
+            let mut kept: Vec<bool> = (0..ours.triangles.len())
+                .map(|i| !ours.corners(i).iter().any(|&v| ours_in[v as usize]))
+                .collect();
+            clean_rounds(ours, &mut kept, Part::Kept);
+            let loops = boundary_loops(ours, &kept);
+            (kept, loops)
+        },
+        || {
+            let theirs_in = inside(theirs, &memo.theirs);
+            let mut copied: Vec<bool> = (0..theirs.triangles.len())
+                .map(|i| theirs.corners(i).iter().all(|&v| theirs_in[v as usize]))
+                .collect();
+            clean_rounds(theirs, &mut copied, Part::Copied);
+            let loops = boundary_loops(theirs, &copied);
+            (copied, loops)
+        },
+    );
     if !kept.contains(&true) || !copied.contains(&true) {
         return Attempt::Hopeless;
     }
-    let (Some(our_loops), Some(their_loops)) =
-        (boundary_loops(ours, &kept), boundary_loops(theirs, &copied))
-    else {
+    let (Some(our_loops), Some(their_loops)) = (our_loops, their_loops) else {
         return Attempt::Hopeless;
     };
     let (pairs, unpaired) = pair_loops(
@@ -286,7 +293,8 @@ fn attempt(region: &[[i32; 3]], (ours, theirs): (&Side, &Side), memo: &mut Memo)
     if !unpaired.is_empty() {
         return Attempt::Unpaired(unpaired);
     }
-    let (our_normals, their_normals) = (rim_normals(ours, &kept), rim_normals(theirs, &copied));
+    let (our_normals, their_normals) =
+        rayon::join(|| rim_normals(ours, &kept), || rim_normals(theirs, &copied));
     let keys: Vec<LoopPair> = pairs
         .iter()
         .map(|&(a, c)| (our_loops[a].clone(), their_loops[c].clone()))
@@ -432,46 +440,47 @@ fn pinched(side: &Side, mask: &[bool]) -> FxHashSet<u32> {
         .collect()
 }
 
-/// One round of step 2: drops small kept pieces and kept triangles at pinched vertices, copies
-/// small uncopied pieces and the input's triangles at pinched vertices. Returns whether anything
-/// changed.
-fn clean(ours: &Side, theirs: &Side, kept: &mut [bool], copied: &mut [bool]) -> bool {
+/// Which part of its side a mask selects: the tracked triangles kept, or the input's copied.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Part {
+    Kept,
+    Copied,
+}
+
+/// Step 2's clean-up of one side, up to [`ROUNDS`] rounds or until a round changes nothing. The
+/// kept triangles lose their small pieces and those at pinched vertices; the copied ones gain the
+/// small pieces left between them and the triangles at pinched vertices. Each side's rounds read
+/// and change its own mask only, so the two sides are cleaned apart.
+fn clean_rounds(side: &Side, mask: &mut [bool], part: Part) {
+    for _ in 0..ROUNDS {
+        if !clean(side, mask, part) {
+            break;
+        }
+    }
+}
+
+/// One round of [`clean_rounds`]; whether anything changed.
+fn clean(side: &Side, mask: &mut [bool], part: Part) -> bool {
     let mut changed = false;
-    for piece in pieces(ours, kept)
+    // The triangles a round may move across the mask: the kept ones, or those not copied.
+    let movable = |m: bool| (part == Part::Kept) == m;
+    let selected: Vec<bool> = mask.iter().map(|&m| movable(m)).collect();
+    for piece in pieces(side, &selected)
         .into_iter()
         .filter(|p| p.len() < MIN_PIECE)
     {
         for i in piece {
-            kept[i] = false;
+            mask[i] = !mask[i];
         }
         changed = true;
     }
-    let uncopied: Vec<bool> = copied.iter().map(|c| !c).collect();
-    for piece in pieces(theirs, &uncopied)
-        .into_iter()
-        .filter(|p| p.len() < MIN_PIECE)
-    {
-        for i in piece {
-            copied[i] = true;
-        }
-        changed = true;
-    }
-    let touches = |side: &Side, i: usize, at: &FxHashSet<u32>| {
-        side.mesh.triangles[side.triangles[i] as usize]
+    let at = pinched(side, mask);
+    for (i, m) in mask.iter_mut().enumerate() {
+        let touches = side.mesh.triangles[side.triangles[i] as usize]
             .iter()
-            .any(|v| at.contains(v))
-    };
-    let ours_pinched = pinched(ours, kept);
-    for (i, k) in kept.iter_mut().enumerate() {
-        if *k && touches(ours, i, &ours_pinched) {
-            *k = false;
-            changed = true;
-        }
-    }
-    let theirs_pinched = pinched(theirs, copied);
-    for (i, c) in copied.iter_mut().enumerate() {
-        if !*c && touches(theirs, i, &theirs_pinched) {
-            *c = true;
+            .any(|v| at.contains(v));
+        if movable(*m) && touches {
+            *m = !*m;
             changed = true;
         }
     }
@@ -863,6 +872,25 @@ fn apart(part: &IndexedMesh, labels: &[u32], spacing: f32) -> Vec<Vec3> {
         .collect()
 }
 
+/// The verdict on the shape of a grafted `part`, where it fails: not closed and manifold, in
+/// pieces, or not of the input's Euler characteristic.
+fn shape_verdict(part: &IndexedMesh, bounds: &Bounds) -> Option<Verdict> {
+    if part.validate().is_err() {
+        return Some(Verdict::Fails);
+    }
+    let (topology, labels) = part.topology_with_labels();
+    if topology.components.len() > 1 {
+        let near = apart(part, &labels, bounds.spacing);
+        if !near.is_empty() {
+            return Some(Verdict::Apart(near));
+        }
+    }
+    if topology.components.len() != 1 || topology.euler() != bounds.euler {
+        return Some(Verdict::Fails);
+    }
+    None
+}
+
 /// Step 4 of the module comment; `theirs` is the input's component grafted in.
 fn check(
     graft: &Graft,
@@ -871,23 +899,30 @@ fn check(
     bounds: &Bounds,
 ) -> Result<Verdict, SubgridError> {
     let part = assemble((&graft.kept, &graft.copied, &graft.zip), ours, theirs.mesh);
-    if part.validate().is_err() {
-        return Ok(Verdict::Fails);
+    // The shape is judged while the distances are measured on the other core: a result that
+    // fails on shape wastes the measurement, but most results pass.
+    let (shape, measured) = rayon::join(
+        || shape_verdict(&part, bounds),
+        || -> Result<_, SubgridError> {
+            // The copied triangles are the input's own, so no sample of theirs lies off either
+            // surface: only the kept triangles and the strips are measured against the input.
+            let joined = assemble((&graft.kept, &[], &graft.zip), ours, theirs.mesh);
+            let far = far_components(
+                bounds.backend,
+                bounds.target_bvh,
+                &joined,
+                &vec![0; joined.positions.len()],
+                1,
+                bounds.max_distance,
+            )?;
+            Ok((far, Bvh::build(&part)?))
+        },
+    );
+    if let Some(verdict) = shape {
+        return Ok(verdict);
     }
-    let (topology, labels) = part.topology_with_labels();
-    if topology.components.len() > 1 {
-        let near = apart(&part, &labels, bounds.spacing);
-        if !near.is_empty() {
-            return Ok(Verdict::Apart(near));
-        }
-    }
-    if topology.components.len() != 1 || topology.euler() != bounds.euler {
-        return Ok(Verdict::Fails);
-    }
-    // The copied triangles are the input's own, so no sample of theirs lies off either surface:
-    // only the kept triangles and the strips are measured against the input, and only the
-    // input's triangles left out against the result.
-    let joined = assemble((&graft.kept, &[], &graft.zip), ours, theirs.mesh);
+    let (mut far, part_bvh) = measured?;
+    // And only the input's triangles left out against the result.
     let mut copied = graft.copied.iter().peekable();
     let left: Vec<u32> = theirs
         .triangles
@@ -896,17 +931,9 @@ fn check(
         .filter(|&t| copied.next_if_eq(&&t).is_none())
         .collect();
     let left = submesh(theirs.mesh, &left);
-    let mut far = far_components(
-        bounds.backend,
-        bounds.target_bvh,
-        &joined,
-        &vec![0; joined.positions.len()],
-        1,
-        bounds.max_distance,
-    )?;
     far.extend(far_components(
         bounds.backend,
-        &Bvh::build(&part)?,
+        &part_bvh,
         &left,
         &vec![0; left.positions.len()],
         1,

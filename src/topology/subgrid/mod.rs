@@ -135,8 +135,7 @@ pub fn match_below_grid(
     fidelity: Fidelity,
 ) -> Result<SubgridCounts, SubgridError> {
     let current = mesh.to_indexed();
-    let ours = Components::of(&current);
-    let theirs = Components::of(target);
+    let (ours, theirs) = rayon::join(|| Components::of(&current), || Components::of(target));
     let surfaces = Surfaces {
         backend,
         current: &current,

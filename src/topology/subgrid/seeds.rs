@@ -74,8 +74,11 @@ pub(super) fn seeds(
             selected,
         });
     }
-    let our_counts = crossing_counts(backend, frame, ours)?;
-    let their_counts = crossing_counts(backend, frame, input)?;
+    let (our_counts, their_counts) = rayon::join(
+        || crossing_counts(backend, frame, ours),
+        || crossing_counts(backend, frame, input),
+    );
+    let (our_counts, their_counts) = (our_counts?, their_counts?);
     let differs = |n: u32, m: u32| n != m && n.max(m) >= 2;
     // A sheet both surfaces have, crossing the next parallel edge in one of them, is no difference.
     let shifted = |key: &(Cell, usize), n: u32, other: &FxHashMap<(Cell, usize), u32>| {
