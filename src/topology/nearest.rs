@@ -86,19 +86,18 @@ impl Survivors {
     }
 }
 
-/// The keys at Chebyshev distance exactly `ring` from `centre`.
+/// The keys at Chebyshev distance exactly `ring` from `centre`: whole columns of `z` where `x` or
+/// `y` lies on the shell's side, only its two ends elsewhere (no allocation: a query visits
+/// dozens of columns).
 fn shell(centre: IVec3, ring: i32) -> impl Iterator<Item = IVec3> {
     (-ring..=ring).flat_map(move |x| {
         (-ring..=ring).flat_map(move |y| {
+            // Ring 0 is a single key, and on its side.
             let on_side = x.abs() == ring || y.abs() == ring;
-            let zs: Vec<i32> = if on_side {
-                (-ring..=ring).collect()
-            } else if ring == 0 {
-                vec![0]
-            } else {
-                vec![-ring, ring]
-            };
-            zs.into_iter().map(move |z| centre + IVec3::new(x, y, z))
+            let step = if on_side { 1 } else { 2 * ring as usize };
+            (-ring..=ring)
+                .step_by(step)
+                .map(move |z| centre + IVec3::new(x, y, z))
         })
     })
 }

@@ -22,6 +22,7 @@
 //! constant. Only when nothing survives are the events left without rules.
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use super::build::Built;
 use super::mesh_grid::MeshGrid;
@@ -193,8 +194,16 @@ pub(crate) fn record(
     )?;
     let mut deletions: Vec<Mutation> = Vec::new();
     let reached: FxHashSet<u32> = order.iter().copied().collect();
-    for &d in deleted.iter().filter(|d| !reached.contains(d)) {
-        let source = survivors.nearest(input.positions[d as usize]);
+    let unreached: Vec<u32> = deleted
+        .iter()
+        .copied()
+        .filter(|d| !reached.contains(d))
+        .collect();
+    let sources: Vec<Option<u32>> = unreached
+        .par_iter()
+        .map(|&d| survivors.nearest(input.positions[d as usize]))
+        .collect();
+    for (d, source) in unreached.into_iter().zip(sources) {
         deletions.push(Mutation::PatchDeleted {
             deleted: input_ids[d as usize],
             sources: source
@@ -268,8 +277,16 @@ pub(crate) fn record(
         });
     }
     let reached: FxHashSet<u32> = order.iter().copied().collect();
-    for &v in fill.iter().filter(|v| !reached.contains(v)) {
-        let source = survivors.nearest(built.mesh.positions[v as usize]);
+    let unreached: Vec<u32> = fill
+        .iter()
+        .copied()
+        .filter(|v| !reached.contains(v))
+        .collect();
+    let sources: Vec<Option<u32>> = unreached
+        .par_iter()
+        .map(|&v| survivors.nearest(built.mesh.positions[v as usize]))
+        .collect();
+    for (v, source) in unreached.into_iter().zip(sources) {
         record.push(Mutation::PatchCreated {
             created: ids[v as usize],
             sources: source

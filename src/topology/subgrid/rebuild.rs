@@ -3,6 +3,8 @@
 //! vertex takes its data from the nearest vertex it replaces, each deleted one from the nearest
 //! vertex of what replaces it.
 
+use rayon::prelude::*;
+
 use super::Surfaces;
 use super::decide::Plan;
 use super::graft::Corner;
@@ -101,9 +103,15 @@ pub(super) fn replacement(
             group_vertices().map(|&v| (v, current.positions[v as usize])),
             spacing,
         );
-        for v in copied {
+        let sources: Vec<Option<u64>> = copied
+            .par_iter()
+            .map(|&v| {
+                let p = target.positions[v as usize];
+                replaced.nearest(p).or_else(|| before.nearest(p)).map(id_of)
+            })
+            .collect();
+        for (v, source) in copied.into_iter().zip(sources) {
             let p = target.positions[v as usize];
-            let source = replaced.nearest(p).or_else(|| before.nearest(p)).map(id_of);
             target_index[v as usize] = positions.len() as u32;
             survivors_of[k].push(positions.len() as u32);
             positions.push(p);
@@ -159,8 +167,17 @@ pub(super) fn replacement(
         }
     }
     for c in (0..ours.len()).filter(|&c| delete[c]) {
-        for &v in ours[c].vertices.iter().filter(|&&v| !keep[v as usize]) {
-            let source = source_of[c].nearest(current.positions[v as usize]);
+        let gone: Vec<u32> = ours[c]
+            .vertices
+            .iter()
+            .copied()
+            .filter(|&v| !keep[v as usize])
+            .collect();
+        let sources: Vec<Option<u32>> = gone
+            .par_iter()
+            .map(|&v| source_of[c].nearest(current.positions[v as usize]))
+            .collect();
+        for (v, source) in gone.into_iter().zip(sources) {
             record.push(Mutation::PatchDeleted {
                 deleted: id_of(v),
                 sources: source

@@ -25,6 +25,7 @@
 //! topology, the region takes them all.
 
 use glam::Vec3;
+use rayon::prelude::*;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::SubgridError;
@@ -149,7 +150,7 @@ fn bridges(frame: &GridFrame, ours: &IndexedMesh, input: &IndexedMesh) -> Vec<Ce
     );
     let owner: Vec<Option<u32>> = input
         .positions
-        .iter()
+        .par_iter()
         .map(|&p| near.nearest(p).map(|v| label[v as usize]))
         .collect();
     let mut cells = Vec::new();
