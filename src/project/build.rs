@@ -424,7 +424,8 @@ fn widen(binary: &[BinaryNode]) -> Vec<BvhNode> {
     let mut pending = vec![(0usize, 0usize)];
     while let Some((b, w)) = pending.pop() {
         let mut node = BvhNode::empty();
-        for (k, &c) in gather(binary, b).iter().enumerate() {
+        let (children, len) = gather(binary, b);
+        for (k, &c) in children[..len].iter().enumerate() {
             let child = binary[c];
             let bounds = child.bounds();
             node.min_x[k] = bounds.min.x;
@@ -448,28 +449,32 @@ fn widen(binary: &[BinaryNode]) -> Vec<BvhNode> {
     wide
 }
 
-/// The binary nodes that become the children of the wide node made from binary node `b`.
-fn gather(binary: &[BinaryNode], b: usize) -> Vec<usize> {
-    let node = binary[b];
-    if node.is_leaf() {
-        return vec![b];
+/// The binary nodes that become the children of the wide node made from binary node `b` (the
+/// first `len` of the array: one for a leaf, two to four otherwise). No allocation: a tree of
+/// 50k triangles has some 18k wide nodes.
+fn gather(binary: &[BinaryNode], b: usize) -> ([usize; 4], usize) {
+    let mut children = [b; 4];
+    if binary[b].is_leaf() {
+        return (children, 1);
     }
     let split = |c: usize| {
         let i = binary[c].index as usize;
         [i, i + 1]
     };
-    let mut children: Vec<usize> = split(b)
-        .into_iter()
-        .flat_map(|c| {
-            if binary[c].is_leaf() {
-                vec![c]
-            } else {
-                split(c).to_vec()
-            }
-        })
-        .collect();
-    while children.len() < 4 {
-        let largest = children
+    let mut len = 0;
+    for c in split(b) {
+        if binary[c].is_leaf() {
+            children[len] = c;
+            len += 1;
+        } else {
+            let [l, r] = split(c);
+            children[len] = l;
+            children[len + 1] = r;
+            len += 2;
+        }
+    }
+    while len < 4 {
+        let largest = children[..len]
             .iter()
             .enumerate()
             .filter(|(_, c)| !binary[**c].is_leaf())
@@ -484,8 +489,11 @@ fn gather(binary: &[BinaryNode], b: usize) -> Vec<usize> {
             break;
         };
         let [l, r] = split(children[k]);
+        children.copy_within(k + 1..len, k + 2);
         children[k] = l;
-        children.insert(k + 1, r);
+        children[k + 1] = r;
+        len += 1;
     }
-    children
+    (children, len)
 }
+
