@@ -496,4 +496,3 @@ fn gather(binary: &[BinaryNode], b: usize) -> ([usize; 4], usize) {
     }
     (children, len)
 }
-

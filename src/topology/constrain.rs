@@ -5,9 +5,10 @@
 //! oriented and non-degenerate (the validation `Mesh::from_indexed` runs), with the components and
 //! per-component Euler characteristics of Θ's isosurface. An attempt that falls short teaches the next one: a
 //! local failure (a triangle that could not be split or triangulated, an invalid element) adds the
-//! cells around it to the seeds; a topology left different by a shallow difference makes the
+//! cells around it to the seeds and tries the same classification again (a few times); a topology left different by a shallow difference makes the
 //! classification stricter: every difference deep, first only in the components whose topology
-//! came out wrong (`mismatch`), then everywhere, then every face the cut could not run along, then
+//! came out wrong (`mismatch`), and there first only where replacing changes the Euler
+//! characteristic (`narrow`), then everywhere, then every face the cut could not run along, then
 //! wider margins. When every local attempt fails the whole surface is replaced by Θ's isosurface,
 //! which is closed and manifold by construction — that last step is the guarantee, the local
 //! attempts are what keep re-sampling small.
@@ -33,6 +34,7 @@ use super::isosurface::{isosurface, place_isosurface, signature};
 use super::keys::{Cell, GridEdge, GridFace, cell_face, cell_neighbour};
 use super::mesh_grid::MeshGrid;
 use super::mismatch::{Isosurface, mismatched};
+use super::narrow::changing;
 use super::points::Point;
 use super::record::record;
 use super::region::{Checks, grow};
@@ -115,24 +117,52 @@ fn resample(
             Err(Some(wrong))
         }
     };
-    // The components whose topology the previous attempt got wrong, and its seeds.
-    let mut focus: Option<(Vec<Cell>, Vec<Cell>)> = None;
+    // The components whose topology the previous attempt got wrong, its seeds, and whether only
+    // the shallow differences there that change χ are taken (`narrow`).
+    let mut focus: Option<(Vec<Cell>, Vec<Cell>, bool)> = None;
+    // All the shallow differences there, should the narrowed attempt fail.
+    let mut fallback: Option<(Vec<Cell>, Vec<Cell>, bool)> = None;
     let (mut step, mut attempt) = (0, 0);
-    while step < steps.len() {
+    // Whether the last attempt failed locally (its cells are in `extra`), and how often the
+    // current step was tried again for it.
+    let (mut local, mut retries) = (false, 0);
+    loop {
+        let again = local && retries < LOCAL_RETRIES && focus.is_none() && fallback.is_none();
+        if step >= steps.len() && !again {
+            break;
+        }
         let clock = Instant::now();
+        if let Some(full) = fallback.take() {
+            focus = Some(full);
+        }
         let focused = focus.is_some();
         let mut cells = match focus.take() {
-            Some((wrong, before)) => {
+            Some((wrong, before, narrowed)) => {
                 let mut cells = seeds(&grid, theta, &every);
                 cells.retain(|c| wrong.binary_search(c).is_ok());
+                if narrowed {
+                    let changing = changing(&grid, (&surface, &iso), &cells);
+                    if changing.len() < cells.len() {
+                        fallback = Some((wrong, before.clone(), false));
+                        cells = changing;
+                    }
+                }
                 cells.extend(before);
                 cells
             }
             None => {
-                step += 1;
+                // A local failure tries the same step again around where it failed; anything
+                // else makes the classification stricter.
+                if again {
+                    retries += 1;
+                } else {
+                    step += 1;
+                    retries = 0;
+                }
                 seeds(&grid, theta, &steps[step - 1])
             }
         };
+        local = false;
         attempt += 1;
         let tried = cells.clone();
         cells.extend_from_slice(&extra);
@@ -172,6 +202,7 @@ fn resample(
                     cells: cells.clone(),
                 });
                 extra.extend(cells);
+                local = true;
             }
             Ok((built, recorded, verdict, judged)) => match verdict {
                 Ok(surface) => {
@@ -194,7 +225,7 @@ fn resample(
                         };
                         let wrong = dilate(&wrong, 1);
                         if !wrong.is_empty() {
-                            focus = Some((wrong, tried));
+                            focus = Some((wrong, tried, true));
                         }
                     }
                 }
@@ -208,6 +239,7 @@ fn resample(
                         cells: cells.clone(),
                     });
                     extra.extend(cells);
+                    local = true;
                 }
             },
         }
@@ -225,6 +257,10 @@ fn resample(
     report.total = start.elapsed();
     Ok((report, Some(replacement)))
 }
+
+/// Most times one step of the ladder is tried again after a local failure (a cut or fill that
+/// failed, an invalid element), each time with the cells around every failure so far.
+const LOCAL_RETRIES: usize = 2;
 
 /// The attempts, from the configured depth to the strictest classification with wide margins.
 fn ladder(options: &TopologyOptions) -> Vec<Strictness> {

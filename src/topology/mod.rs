@@ -18,6 +18,7 @@
 mod build;
 mod classify;
 mod clip;
+mod clusters;
 mod constrain;
 mod cut;
 mod distance;
@@ -29,6 +30,7 @@ mod isosurface;
 mod keys;
 mod mesh_grid;
 mod mismatch;
+mod narrow;
 mod nearest;
 mod options;
 mod place;

@@ -26,7 +26,7 @@
 
 use glam::Vec3;
 use rayon::prelude::*;
-use rustc_hash::{FxHashMap, FxHashSet};
+use rustc_hash::FxHashMap;
 
 use super::SubgridError;
 use crate::compute::Backend;
@@ -34,7 +34,8 @@ use crate::geometry::Components;
 use crate::grid::{GridFrame, LatticeMesh, cross_axes, rasterize};
 use crate::mesh::IndexedMesh;
 use crate::topology::classify::dilate;
-use crate::topology::keys::{Cell, NEIGHBOURS, PARALLEL_EDGES};
+use crate::topology::clusters::{clusters, euler};
+use crate::topology::keys::{Cell, PARALLEL_EDGES};
 use crate::topology::nearest::Survivors;
 
 /// The cells a graft's region starts from.
@@ -184,43 +185,6 @@ fn crossing_counts(
     Ok(counts)
 }
 
-/// Sorted cells labelled by the group of cells they touch (26-neighbours), groups numbered in
-/// the order of their first cell.
-struct Clusters {
-    label: Vec<u32>,
-    count: usize,
-}
-
-/// The clusters of `cells` (sorted, without repeats).
-fn clusters(cells: &[Cell]) -> Clusters {
-    const NONE: u32 = u32::MAX;
-    let mut label = vec![NONE; cells.len()];
-    let mut count = 0;
-    let index = |c: &Cell| cells.binary_search(c).ok();
-    for start in 0..cells.len() {
-        if label[start] != NONE {
-            continue;
-        }
-        label[start] = count;
-        let mut stack = vec![start];
-        while let Some(i) = stack.pop() {
-            let c = cells[i];
-            for d in NEIGHBOURS {
-                let n = [c[0] + d[0], c[1] + d[1], c[2] + d[2]];
-                if let Some(j) = index(&n).filter(|&j| label[j] == NONE) {
-                    label[j] = count;
-                    stack.push(j);
-                }
-            }
-        }
-        count += 1;
-    }
-    Clusters {
-        label,
-        count: count as usize,
-    }
-}
-
 /// Per cluster, given by its cells grown by one, χ(C) − χ(R): the input's triangles with every
 /// corner in the cluster's cells, and the tracked triangles with any corner in them (see the
 /// module comment).
@@ -262,21 +226,6 @@ fn euler_changes(
         .zip(&copied)
         .map(|(r, c)| euler(input, c) - euler(ours, r))
         .collect()
-}
-
-/// V − E + F of the triangles `triangles` of `mesh`, as a complex of their own.
-fn euler(mesh: &IndexedMesh, triangles: &[u32]) -> i64 {
-    let mut vertices: FxHashSet<u32> = FxHashSet::default();
-    let mut edges: FxHashSet<(u32, u32)> = FxHashSet::default();
-    for &t in triangles {
-        let tri = mesh.triangles[t as usize];
-        for k in 0..3 {
-            let (a, b) = (tri[k], tri[(k + 1) % 3]);
-            vertices.insert(a);
-            edges.insert((a.min(b), a.max(b)));
-        }
-    }
-    vertices.len() as i64 - edges.len() as i64 + triangles.len() as i64
 }
 
 #[cfg(test)]

@@ -1,0 +1,61 @@
+//! Clusters of grid cells and the Euler characteristic of a patch of triangles: how the steps that
+//! re-sample a surface inside a set of cells tell a change of topology (a cluster whose
+//! replacement changes χ) from a change of shape only (paper §4.3: only differences that change
+//! the topology should re-sample the surface).
+
+use rustc_hash::FxHashSet;
+
+use super::keys::{Cell, NEIGHBOURS};
+use crate::mesh::IndexedMesh;
+
+/// Sorted cells labelled by the group of cells they touch (26-neighbours), groups numbered in
+/// the order of their first cell.
+pub(crate) struct Clusters {
+    pub label: Vec<u32>,
+    pub count: usize,
+}
+
+/// The clusters of `cells` (sorted, without repeats).
+pub(crate) fn clusters(cells: &[Cell]) -> Clusters {
+    const NONE: u32 = u32::MAX;
+    let mut label = vec![NONE; cells.len()];
+    let mut count = 0;
+    let index = |c: &Cell| cells.binary_search(c).ok();
+    for start in 0..cells.len() {
+        if label[start] != NONE {
+            continue;
+        }
+        label[start] = count;
+        let mut stack = vec![start];
+        while let Some(i) = stack.pop() {
+            let c = cells[i];
+            for d in NEIGHBOURS {
+                let n = [c[0] + d[0], c[1] + d[1], c[2] + d[2]];
+                if let Some(j) = index(&n).filter(|&j| label[j] == NONE) {
+                    label[j] = count;
+                    stack.push(j);
+                }
+            }
+        }
+        count += 1;
+    }
+    Clusters {
+        label,
+        count: count as usize,
+    }
+}
+
+/// V − E + F of the triangles `triangles` of `mesh`, as a complex of their own.
+pub(crate) fn euler(mesh: &IndexedMesh, triangles: &[u32]) -> i64 {
+    let mut vertices: FxHashSet<u32> = FxHashSet::default();
+    let mut edges: FxHashSet<(u32, u32)> = FxHashSet::default();
+    for &t in triangles {
+        let tri = mesh.triangles[t as usize];
+        for k in 0..3 {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            vertices.insert(a);
+            edges.insert((a.min(b), a.max(b)));
+        }
+    }
+    vertices.len() as i64 - edges.len() as i64 + triangles.len() as i64
+}
