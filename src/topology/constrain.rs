@@ -3,15 +3,16 @@
 //!
 //! Each attempt builds the whole result and checks it exactly: closed, manifold, consistently
 //! oriented and non-degenerate (the validation `Mesh::from_indexed` runs), with the components and
-//! per-component Euler characteristics of Θ's isosurface. An attempt that falls short teaches the next one: a
-//! local failure (a triangle that could not be split or triangulated, an invalid element) adds the
-//! cells around it to the seeds and tries the same classification again (a few times); a topology left different by a shallow difference makes the
-//! classification stricter: every difference deep, first only in the components whose topology
-//! came out wrong (`mismatch`), and there first only where replacing changes the Euler
-//! characteristic (`narrow`), then everywhere, then every face the cut could not run along, then
-//! wider margins. When every local attempt fails the whole surface is replaced by Θ's isosurface,
-//! which is closed and manifold by construction — that last step is the guarantee, the local
-//! attempts are what keep re-sampling small.
+//! per-component Euler characteristics of Θ's isosurface. An attempt that falls short teaches the
+//! next one: a local failure (a triangle that could not be split or triangulated, an invalid
+//! element) adds the cells around it to the seeds and tries the same classification again, a few
+//! times; a topology left different by a shallow difference makes the classification stricter:
+//! every difference deep, first only in the components whose topology came out wrong
+//! (`mismatch`), and there first only where replacing changes the Euler characteristic
+//! (`narrow`), then everywhere, then every face the cut could not run along, then wider margins.
+//! When every local attempt fails the whole surface is replaced by Θ's isosurface, which is closed
+//! and manifold by construction — that last step is the guarantee, the local attempts are what
+//! keep re-sampling small.
 //!
 //! With `keep_shared_sheets` (for a caller that matches the input's own topology below the grid
 //! afterwards) a sheet thinner than a cell that Θ's mesh has too is no difference, and a result
