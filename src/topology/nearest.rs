@@ -2,6 +2,7 @@
 //! or deletes with no patch boundary to average (a droplet appearing or vanishing whole, §4.4).
 
 use glam::{IVec3, Vec3};
+use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
 /// A uniform hash grid over the vertices that exist both before and after a topology change.
@@ -83,6 +84,14 @@ impl Survivors {
             }
         }
         best.map(|(_, v)| v)
+    }
+
+    /// [`Survivors::nearest`] of each of `points`, in order, queried in parallel.
+    pub(crate) fn nearest_each(
+        &self,
+        points: impl IndexedParallelIterator<Item = Vec3>,
+    ) -> Vec<Option<u32>> {
+        points.map(|p| self.nearest(p)).collect()
     }
 }
 

@@ -199,10 +199,8 @@ pub(crate) fn record(
         .copied()
         .filter(|d| !reached.contains(d))
         .collect();
-    let sources: Vec<Option<u32>> = unreached
-        .par_iter()
-        .map(|&d| survivors.nearest(input.positions[d as usize]))
-        .collect();
+    let sources =
+        survivors.nearest_each(unreached.par_iter().map(|&d| input.positions[d as usize]));
     for (d, source) in unreached.into_iter().zip(sources) {
         deletions.push(Mutation::PatchDeleted {
             deleted: input_ids[d as usize],
@@ -282,10 +280,11 @@ pub(crate) fn record(
         .copied()
         .filter(|v| !reached.contains(v))
         .collect();
-    let sources: Vec<Option<u32>> = unreached
-        .par_iter()
-        .map(|&v| survivors.nearest(built.mesh.positions[v as usize]))
-        .collect();
+    let sources = survivors.nearest_each(
+        unreached
+            .par_iter()
+            .map(|&v| built.mesh.positions[v as usize]),
+    );
     for (v, source) in unreached.into_iter().zip(sources) {
         record.push(Mutation::PatchCreated {
             created: ids[v as usize],

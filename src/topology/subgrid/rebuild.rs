@@ -173,10 +173,8 @@ pub(super) fn replacement(
             .copied()
             .filter(|&v| !keep[v as usize])
             .collect();
-        let sources: Vec<Option<u32>> = gone
-            .par_iter()
-            .map(|&v| source_of[c].nearest(current.positions[v as usize]))
-            .collect();
+        let sources =
+            source_of[c].nearest_each(gone.par_iter().map(|&v| current.positions[v as usize]));
         for (v, source) in gone.into_iter().zip(sources) {
             record.push(Mutation::PatchDeleted {
                 deleted: id_of(v),

@@ -149,10 +149,10 @@ fn bridges(frame: &GridFrame, ours: &IndexedMesh, input: &IndexedMesh) -> Vec<Ce
             .map(|(v, &p)| (v as u32, p)),
         frame.spacing(),
     );
-    let owner: Vec<Option<u32>> = input
-        .positions
-        .par_iter()
-        .map(|&p| near.nearest(p).map(|v| label[v as usize]))
+    let owner: Vec<Option<u32>> = near
+        .nearest_each(input.positions.par_iter().copied())
+        .into_iter()
+        .map(|v| v.map(|v| label[v as usize]))
         .collect();
     let mut cells = Vec::new();
     for t in &input.triangles {
