@@ -3,20 +3,14 @@
 //! replacement changes χ) from a change of shape only (paper §4.3: only differences that change
 //! the topology should re-sample the surface).
 
-use rustc_hash::FxHashSet;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::keys::{Cell, NEIGHBOURS};
 use crate::mesh::IndexedMesh;
 
-/// Sorted cells labelled by the group of cells they touch (26-neighbours), groups numbered in
-/// the order of their first cell.
-pub(crate) struct Clusters {
-    pub label: Vec<u32>,
-    pub count: usize,
-}
-
-/// The clusters of `cells` (sorted, without repeats).
-pub(crate) fn clusters(cells: &[Cell]) -> Clusters {
+/// The clusters of `cells` (sorted, without repeats): the groups of cells that touch
+/// (26-neighbours), each sorted, numbered in the order of their first cell.
+pub(crate) fn clusters(cells: &[Cell]) -> Vec<Vec<Cell>> {
     const NONE: u32 = u32::MAX;
     let mut label = vec![NONE; cells.len()];
     let mut count = 0;
@@ -39,10 +33,22 @@ pub(crate) fn clusters(cells: &[Cell]) -> Clusters {
         }
         count += 1;
     }
-    Clusters {
-        label,
-        count: count as usize,
+    let mut members: Vec<Vec<Cell>> = vec![Vec::new(); count as usize];
+    for (&c, &k) in cells.iter().zip(&label) {
+        members[k as usize].push(c);
     }
+    members
+}
+
+/// For every cell of the clusters `grown` (each a list of cells), the clusters holding it.
+pub(crate) fn holders(grown: &[Vec<Cell>]) -> FxHashMap<Cell, Vec<u32>> {
+    let mut out: FxHashMap<Cell, Vec<u32>> = FxHashMap::default();
+    for (k, cells) in grown.iter().enumerate() {
+        for &c in cells {
+            out.entry(c).or_default().push(k as u32);
+        }
+    }
+    out
 }
 
 /// V − E + F of the triangles `triangles` of `mesh`, as a complex of their own.

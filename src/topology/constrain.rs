@@ -121,8 +121,9 @@ fn resample(
     // The components whose topology the previous attempt got wrong, its seeds, and whether only
     // the shallow differences there that change χ are taken (`narrow`).
     let mut focus: Option<(Vec<Cell>, Vec<Cell>, bool)> = None;
-    // All the shallow differences there, should the narrowed attempt fail.
-    let mut fallback: Option<(Vec<Cell>, Vec<Cell>, bool)> = None;
+    // The wrong components and seeds again, to take all their shallow differences should the
+    // narrowed attempt fail.
+    let mut fallback: Option<(Vec<Cell>, Vec<Cell>)> = None;
     let (mut step, mut attempt) = (0, 0);
     // Whether the last attempt failed locally (its cells are in `extra`), and how often the
     // current step was tried again for it.
@@ -133,8 +134,8 @@ fn resample(
             break;
         }
         let clock = Instant::now();
-        if let Some(full) = fallback.take() {
-            focus = Some(full);
+        if let Some((wrong, before)) = fallback.take() {
+            focus = Some((wrong, before, false));
         }
         let focused = focus.is_some();
         let mut cells = match focus.take() {
@@ -144,7 +145,7 @@ fn resample(
                 if narrowed {
                     let changing = changing(&grid, (&surface, &iso), &cells);
                     if changing.len() < cells.len() {
-                        fallback = Some((wrong, before.clone(), false));
+                        fallback = Some((wrong, before.clone()));
                         cells = changing;
                     }
                 }

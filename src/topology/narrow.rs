@@ -7,10 +7,8 @@
 //! takes only the clusters of shallow differences whose replacement by Θ's isosurface changes χ,
 //! and all of them only if that fails.
 
-use rustc_hash::FxHashMap;
-
 use super::classify::dilate;
-use super::clusters::{clusters, euler};
+use super::clusters::{clusters, euler, holders};
 use super::keys::Cell;
 use super::mesh_grid::MeshGrid;
 use crate::grid::cases::cell_case;
@@ -28,19 +26,11 @@ pub(crate) fn changing(
     let mut seeds = seeds.to_vec();
     seeds.sort_unstable();
     seeds.dedup();
-    let found = clusters(&seeds);
-    let mut members: Vec<Vec<Cell>> = vec![Vec::new(); found.count];
-    for (&c, &k) in seeds.iter().zip(&found.label) {
-        members[k as usize].push(c);
-    }
-    let mut holders: FxHashMap<Cell, Vec<u32>> = FxHashMap::default();
-    for (k, cells) in members.iter().enumerate() {
-        for c in dilate(cells, 1) {
-            holders.entry(c).or_default().push(k as u32);
-        }
-    }
+    let members = clusters(&seeds);
+    let grown: Vec<Vec<Cell>> = members.iter().map(|m| dilate(m, 1)).collect();
+    let holders = holders(&grown);
     let mesh = grid.mesh;
-    let mut removed: Vec<Vec<u32>> = vec![Vec::new(); found.count];
+    let mut removed: Vec<Vec<u32>> = vec![Vec::new(); members.len()];
     for (t, tri) in mesh.triangles.iter().enumerate() {
         let mut touched: Vec<u32> = tri
             .iter()
@@ -55,7 +45,7 @@ pub(crate) fn changing(
         }
     }
     // The isosurface's triangles come cell by cell, in the order of `surface`.
-    let mut filled: Vec<Vec<u32>> = vec![Vec::new(); found.count];
+    let mut filled: Vec<Vec<u32>> = vec![Vec::new(); members.len()];
     let mut first = 0u32;
     for &(cell, config) in surface {
         let count = cell_case(config).triangles.len() as u32;

@@ -71,7 +71,6 @@ impl Survivors {
                 break;
             }
             if ring > RINGS {
-                best = None;
                 for &point in &self.all {
                     closer(&mut best, point);
                 }

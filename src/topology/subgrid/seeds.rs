@@ -34,7 +34,7 @@ use crate::geometry::Components;
 use crate::grid::{GridFrame, LatticeMesh, cross_axes, rasterize};
 use crate::mesh::IndexedMesh;
 use crate::topology::classify::dilate;
-use crate::topology::clusters::{clusters, euler};
+use crate::topology::clusters::{clusters, euler, holders};
 use crate::topology::keys::{Cell, PARALLEL_EDGES};
 use crate::topology::nearest::Survivors;
 
@@ -111,12 +111,10 @@ pub(super) fn seeds(
     }
     around_edges.sort_unstable();
     around_edges.dedup();
-    let clusters = clusters(&around_edges);
-    let mut members: Vec<Vec<Cell>> = vec![Vec::new(); clusters.count];
-    for (&c, &k) in around_edges.iter().zip(&clusters.label) {
-        members[k as usize].push(c);
-    }
-    let grown: Vec<Vec<Cell>> = members.iter().map(|m| dilate(m, 1)).collect();
+    let grown: Vec<Vec<Cell>> = clusters(&around_edges)
+        .iter()
+        .map(|m| dilate(m, 1))
+        .collect();
     let changes = euler_changes(frame, &grown, ours, input);
     let mut all = selected.clone();
     for (cells, change) in grown.into_iter().zip(changes) {
@@ -194,12 +192,7 @@ fn euler_changes(
     ours: &IndexedMesh,
     input: &IndexedMesh,
 ) -> Vec<i64> {
-    let mut holders: FxHashMap<Cell, Vec<u32>> = FxHashMap::default();
-    for (k, cells) in grown.iter().enumerate() {
-        for &c in cells {
-            holders.entry(c).or_default().push(k as u32);
-        }
-    }
+    let holders = holders(grown);
     let none: Vec<u32> = Vec::new();
     let clusters_at = |p: Vec3| holders.get(&cell(frame, p)).unwrap_or(&none);
     let mut removed: Vec<Vec<u32>> = vec![Vec::new(); grown.len()];
