@@ -408,6 +408,34 @@ fn a_tunnel_through_a_sheet_thinner_than_a_cell_is_grafted() {
     assert_grafted_into_one_body(&ours, &target, 0.1);
 }
 
+/// A sheet as in [`sheet`] but lying between the topology grid's planes z = 0 and z = 0.25, with
+/// a hole of radius `hole` (none when 0) centred in the column of the cell at the origin, away
+/// from every grid edge.
+fn sheet_between_planes(hole: f32, shift: f32) -> IndexedMesh {
+    let field = move |p: Vec3| {
+        let q = Vec3::new(p.x.abs() - 1.0, p.y.abs() - 1.0, (p.z - 0.125).abs() - 0.06);
+        let slab = q.max(Vec3::ZERO).length() + q.max_element().min(0.0);
+        let tube = hole - (Vec2::new(p.x, p.y) - Vec2::splat(0.125)).length();
+        if hole > 0.0 { slab.max(tube) } else { slab }
+    };
+    surface_of(field, Vec3::new(-1.25, -1.25, -1.125) + shift, 0.04, 63)
+}
+
+#[test]
+fn a_hole_no_grid_edge_meets_is_found_below_the_bound() {
+    // The input's sheet has a hole of radius 0.12 that the tracked sheet lacks. No grid edge of
+    // the topology grid (0.25) passes through the hole, and the sheet lies between two grid
+    // planes, so both sheets cross every grid edge alike; every sample of either lies within the
+    // bound (0.25) of the other. Only the tracked sheet's samples over the hole, up to 0.12 from
+    // its rim, tell where the difference is: the graft looks for them below the bound and keeps
+    // most of the sheet instead of replacing it.
+    let ours = sheet_between_planes(0.0, 0.013);
+    let target = sheet_between_planes(0.12, 0.0);
+    assert_eq!(ours.topology().euler(), 2);
+    assert_eq!(target.topology().euler(), 0);
+    assert_grafted_into_one_body(&ours, &target, 0.5);
+}
+
 #[test]
 fn a_bridge_thinner_than_a_cell_is_grafted_between_two_bodies() {
     // The input joins two balls by a strand 0.1 wide, below the topology cell of 0.25; the

@@ -27,9 +27,13 @@
 //! differently there) or step 4 finds samples beyond the bound, the region grows around them;
 //! where step 4 finds the result in pieces (the rim cut a bridge of the input), it grows where
 //! the smaller pieces come next to the largest; where step 4 finds another Euler
-//! characteristic, the clusters step 1 left out join the region, and if it is still found,
-//! whose place is then unknown, the whole region grows. Steps 2–4 then run again, up to
-//! [`GROWTHS`] times; after that the caller replaces the whole component.
+//! characteristic, the clusters step 1 left out join the region, and if it is still found, the
+//! region grows around the samples of either surface farther from the other than half the bound,
+//! else a quarter (a hole or handle thinner than a cell that no grid edge meets still holds one
+//! surface off the other there); only when there are none does the whole region grow. Where step
+//! 1 finds nothing at all although the topology differs, the region is seeded the same way. Steps
+//! 2–4 then run again, up to [`GROWTHS`] times; after that the caller replaces the whole
+//! component.
 
 use glam::Vec3;
 use rustc_hash::{FxHashMap, FxHashSet};
@@ -147,16 +151,25 @@ pub(super) fn graft(
     bounds: &Bounds,
 ) -> Result<Option<Graft>, SubgridError> {
     let frame = GridFrame::new(Vec3::ZERO, bounds.spacing)?;
-    let input = submesh(theirs.mesh, &theirs.triangles);
-    let seeds = seeds::seeds(
-        bounds.backend,
-        &frame,
-        (&submesh(ours.mesh, &ours.triangles), &input),
-        far,
-        shape_only,
-    )?;
+    let (tracked, input) = (
+        submesh(ours.mesh, &ours.triangles),
+        submesh(theirs.mesh, &theirs.triangles),
+    );
+    let mut seeds = seeds::seeds(bounds.backend, &frame, (&tracked, &input), far, shape_only)?;
+    let cells =
+        |points: Vec<Vec3>| -> Vec<Cell> { points.iter().map(|&p| cell(&frame, p)).collect() };
+    // Halvings of the bound spent looking for where a wrong topology lies (see `Verdict::Fails`).
+    let mut halvings = 0;
     if seeds.all.is_empty() {
-        return Ok(None);
+        // No sample beyond the bound and no grid edge crossed differently, yet the topology
+        // differs: the difference is looked for as a wrong result's is, below the bound.
+        let found = suspected(&mut halvings, bounds, |distance| {
+            suspects((&tracked, &input, &tracked), bounds, distance)
+        })?;
+        if found.is_empty() {
+            return Ok(None);
+        }
+        seeds.all = dilate(&cells(found), 1);
     }
     let mut widened = seeds.selected.is_empty();
     let mut rimmed = widened;
@@ -167,7 +180,6 @@ pub(super) fn graft(
     };
     let mut memo = Memo::new(&frame, ours, theirs);
     for _ in 0..GROWTHS {
-        let cells = |points: Vec<Vec3>| points.iter().map(|&p| cell(&frame, p)).collect();
         let trouble: Vec<[i32; 3]> = match attempt(&region, (ours, theirs), &mut memo) {
             Attempt::Hopeless => return Ok(None),
             Attempt::Unpaired(points) => cells(points),
@@ -188,8 +200,30 @@ pub(super) fn graft(
                         region.dedup();
                         continue;
                     }
-                    // Where the topology went wrong is not known: the whole region grows.
-                    Verdict::Fails => region.clone(),
+                    // Where the topology went wrong is not known. A hole or handle thinner than
+                    // a cell that no grid edge sees still leaves one surface off the other by a
+                    // fraction of a cell there (the surface spanning the hole lies about the
+                    // hole's radius from its rim), so the region grows first around the samples
+                    // farther than half the bound, then a quarter; only where none are left does
+                    // the whole region grow.
+                    Verdict::Fails => {
+                        let found = suspected(&mut halvings, bounds, |distance| {
+                            let part = assemble(
+                                (&graft.kept, &graft.copied, &graft.zip),
+                                ours.mesh,
+                                theirs.mesh,
+                            );
+                            let joined =
+                                assemble((&graft.kept, &[], &graft.zip), ours.mesh, theirs.mesh);
+                            let left = left_out(&graft, theirs);
+                            suspects((&joined, &left, &part), bounds, distance)
+                        })?;
+                        if found.is_empty() {
+                            region.clone()
+                        } else {
+                            cells(found)
+                        }
+                    }
                     Verdict::Far(points) | Verdict::Apart(points) => cells(points),
                 }
             }
@@ -201,6 +235,9 @@ pub(super) fn graft(
 
 /// Most times step 3 or 4 may grow the region around where it failed and try again.
 const GROWTHS: usize = 24;
+
+/// Halvings of the distance bound below which a wrong topology is looked for (half, a quarter).
+const SUSPICIONS: usize = 2;
 
 /// How one try at steps 2 and 3 ended.
 enum Attempt {
@@ -891,6 +928,69 @@ fn shape_verdict(part: &IndexedMesh, bounds: &Bounds) -> Option<Verdict> {
     None
 }
 
+/// The points `look` finds at half the distance bound, else at a quarter, starting at the level
+/// `halvings` reached before (updated): none once both are spent.
+fn suspected(
+    halvings: &mut usize,
+    bounds: &Bounds,
+    look: impl Fn(f32) -> Result<Vec<Vec3>, SubgridError>,
+) -> Result<Vec<Vec3>, SubgridError> {
+    while *halvings < SUSPICIONS {
+        let found = look(bounds.max_distance / 2f32.powi(*halvings as i32 + 1))?;
+        if !found.is_empty() {
+            return Ok(found);
+        }
+        *halvings += 1;
+    }
+    Ok(Vec::new())
+}
+
+/// The samples of `ours` farther than `distance` from the input, and those of `theirs` (input
+/// triangles) farther than it from `whole`, the tracked surface `ours` is part of.
+fn suspects(
+    (ours, theirs, whole): (&IndexedMesh, &IndexedMesh, &IndexedMesh),
+    bounds: &Bounds,
+    distance: f32,
+) -> Result<Vec<Vec3>, SubgridError> {
+    let (from_input, whole_bvh) = rayon::join(
+        || far_points(bounds.backend, bounds.target_bvh, ours, distance),
+        || Bvh::build(whole),
+    );
+    let mut found = from_input?;
+    found.extend(far_points(bounds.backend, &whole_bvh?, theirs, distance)?);
+    Ok(found)
+}
+
+/// The samples of `mesh` farther than `distance` from the surface in `bvh`.
+fn far_points(
+    backend: &Backend,
+    bvh: &Bvh,
+    mesh: &IndexedMesh,
+    distance: f32,
+) -> Result<Vec<Vec3>, SubgridError> {
+    let far = far_components(
+        backend,
+        bvh,
+        mesh,
+        &vec![0; mesh.positions.len()],
+        1,
+        distance,
+    )?;
+    Ok(far.into_iter().flatten().collect())
+}
+
+/// The input's triangles a graft does not copy.
+fn left_out(graft: &Graft, theirs: &Side) -> IndexedMesh {
+    let mut copied = graft.copied.iter().peekable();
+    let left: Vec<u32> = theirs
+        .triangles
+        .iter()
+        .copied()
+        .filter(|&t| copied.next_if_eq(&&t).is_none())
+        .collect();
+    submesh(theirs.mesh, &left)
+}
+
 /// Step 4 of the module comment; `theirs` is the input's component grafted in.
 fn check(
     graft: &Graft,
@@ -907,12 +1007,10 @@ fn check(
             // The copied triangles are the input's own, so no sample of theirs lies off either
             // surface: only the kept triangles and the strips are measured against the input.
             let joined = assemble((&graft.kept, &[], &graft.zip), ours, theirs.mesh);
-            let far = far_components(
+            let far = far_points(
                 bounds.backend,
                 bounds.target_bvh,
                 &joined,
-                &vec![0; joined.positions.len()],
-                1,
                 bounds.max_distance,
             )?;
             Ok((far, Bvh::build(&part)?))
@@ -923,23 +1021,12 @@ fn check(
     }
     let (mut far, part_bvh) = measured?;
     // And only the input's triangles left out against the result.
-    let mut copied = graft.copied.iter().peekable();
-    let left: Vec<u32> = theirs
-        .triangles
-        .iter()
-        .copied()
-        .filter(|&t| copied.next_if_eq(&&t).is_none())
-        .collect();
-    let left = submesh(theirs.mesh, &left);
-    far.extend(far_components(
+    far.extend(far_points(
         bounds.backend,
         &part_bvh,
-        &left,
-        &vec![0; left.positions.len()],
-        1,
+        &left_out(graft, theirs),
         bounds.max_distance,
     )?);
-    let far: Vec<Vec3> = far.into_iter().flatten().collect();
     Ok(if far.is_empty() {
         Verdict::Meets
     } else {
