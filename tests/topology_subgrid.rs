@@ -386,13 +386,19 @@ fn ripples_within_the_bound_do_not_grow_a_graft() {
 /// with a hole of radius `hole` through its middle (none when 0), meshed on a grid shifted by
 /// `shift` so that two sheets never share a triangulation.
 fn sheet(hole: f32, shift: f32) -> IndexedMesh {
+    sheet_at(hole, Vec2::ZERO, 0.0, Vec3::splat(-1.25 + shift))
+}
+
+/// The sheet of [`sheet`] centred at height `z`, its hole centred at `centre`, meshed from
+/// `origin`.
+fn sheet_at(hole: f32, centre: Vec2, z: f32, origin: Vec3) -> IndexedMesh {
     let field = move |p: Vec3| {
-        let q = Vec3::new(p.x.abs() - 1.0, p.y.abs() - 1.0, p.z.abs() - 0.06);
+        let q = Vec3::new(p.x.abs() - 1.0, p.y.abs() - 1.0, (p.z - z).abs() - 0.06);
         let slab = q.max(Vec3::ZERO).length() + q.max_element().min(0.0);
-        let tube = hole - Vec2::new(p.x, p.y).length();
+        let tube = hole - (Vec2::new(p.x, p.y) - centre).length();
         if hole > 0.0 { slab.max(tube) } else { slab }
     };
-    surface_of(field, Vec3::splat(-1.25 + shift), 0.04, 63)
+    surface_of(field, origin, 0.04, 63)
 }
 
 #[test]
@@ -412,13 +418,12 @@ fn a_tunnel_through_a_sheet_thinner_than_a_cell_is_grafted() {
 /// a hole of radius `hole` (none when 0) centred in the column of the cell at the origin, away
 /// from every grid edge.
 fn sheet_between_planes(hole: f32, shift: f32) -> IndexedMesh {
-    let field = move |p: Vec3| {
-        let q = Vec3::new(p.x.abs() - 1.0, p.y.abs() - 1.0, (p.z - 0.125).abs() - 0.06);
-        let slab = q.max(Vec3::ZERO).length() + q.max_element().min(0.0);
-        let tube = hole - (Vec2::new(p.x, p.y) - Vec2::splat(0.125)).length();
-        if hole > 0.0 { slab.max(tube) } else { slab }
-    };
-    surface_of(field, Vec3::new(-1.25, -1.25, -1.125) + shift, 0.04, 63)
+    sheet_at(
+        hole,
+        Vec2::splat(0.125),
+        0.125,
+        Vec3::new(-1.25, -1.25, -1.125) + shift,
+    )
 }
 
 #[test]

@@ -51,6 +51,25 @@ pub(crate) fn holders(grown: &[Vec<Cell>]) -> FxHashMap<Cell, Vec<u32>> {
     out
 }
 
+/// For each of `count` clusters, the triangles of `triangles` (indices, in order) with a corner in
+/// it; `of` gives the clusters holding a vertex.
+pub(crate) fn touching<'a>(
+    triangles: &[[u32; 3]],
+    count: usize,
+    of: impl Fn(u32) -> &'a [u32],
+) -> Vec<Vec<u32>> {
+    let mut out: Vec<Vec<u32>> = vec![Vec::new(); count];
+    for (t, tri) in triangles.iter().enumerate() {
+        let mut touched: Vec<u32> = tri.iter().flat_map(|&v| of(v).iter().copied()).collect();
+        touched.sort_unstable();
+        touched.dedup();
+        for k in touched {
+            out[k as usize].push(t as u32);
+        }
+    }
+    out
+}
+
 /// V − E + F of the triangles `triangles` of `mesh`, as a complex of their own.
 pub(crate) fn euler(mesh: &IndexedMesh, triangles: &[u32]) -> i64 {
     let mut vertices: FxHashSet<u32> = FxHashSet::default();

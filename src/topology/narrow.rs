@@ -8,7 +8,7 @@
 //! and all of them only if that fails.
 
 use super::classify::dilate;
-use super::clusters::{clusters, euler, holders};
+use super::clusters::{clusters, euler, holders, touching};
 use super::keys::Cell;
 use super::mesh_grid::MeshGrid;
 use crate::grid::cases::cell_case;
@@ -30,20 +30,11 @@ pub(crate) fn changing(
     let grown: Vec<Vec<Cell>> = members.iter().map(|m| dilate(m, 1)).collect();
     let holders = holders(&grown);
     let mesh = grid.mesh;
-    let mut removed: Vec<Vec<u32>> = vec![Vec::new(); members.len()];
-    for (t, tri) in mesh.triangles.iter().enumerate() {
-        let mut touched: Vec<u32> = tri
-            .iter()
-            .filter_map(|&v| holders.get(&grid.vertex_cell(v)))
-            .flatten()
-            .copied()
-            .collect();
-        touched.sort_unstable();
-        touched.dedup();
-        for k in touched {
-            removed[k as usize].push(t as u32);
-        }
-    }
+    let removed = touching(&mesh.triangles, members.len(), |v| {
+        holders
+            .get(&grid.vertex_cell(v))
+            .map_or(&[][..], Vec::as_slice)
+    });
     // The isosurface's triangles come cell by cell, in the order of `surface`.
     let mut filled: Vec<Vec<u32>> = vec![Vec::new(); members.len()];
     let mut first = 0u32;

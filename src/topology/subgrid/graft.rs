@@ -164,7 +164,7 @@ pub(super) fn graft(
         // No sample beyond the bound and no grid edge crossed differently, yet the topology
         // differs: the difference is looked for as a wrong result's is, below the bound.
         let found = suspected(&mut halvings, bounds, |distance| {
-            suspects((&tracked, &input, &tracked), bounds, distance)
+            far_apart((&tracked, &input, &tracked), bounds, distance)
         })?;
         if found.is_empty() {
             return Ok(None);
@@ -207,16 +207,9 @@ pub(super) fn graft(
                     // farther than half the bound, then a quarter; only where none are left does
                     // the whole region grow.
                     Verdict::Fails => {
+                        let (part, joined, left) = measured(&graft, ours.mesh, theirs);
                         let found = suspected(&mut halvings, bounds, |distance| {
-                            let part = assemble(
-                                (&graft.kept, &graft.copied, &graft.zip),
-                                ours.mesh,
-                                theirs.mesh,
-                            );
-                            let joined =
-                                assemble((&graft.kept, &[], &graft.zip), ours.mesh, theirs.mesh);
-                            let left = left_out(&graft, theirs);
-                            suspects((&joined, &left, &part), bounds, distance)
+                            far_apart((&joined, &left, &part), bounds, distance)
                         })?;
                         if found.is_empty() {
                             region.clone()
@@ -947,7 +940,7 @@ fn suspected(
 
 /// The samples of `ours` farther than `distance` from the input, and those of `theirs` (input
 /// triangles) farther than it from `whole`, the tracked surface `ours` is part of.
-fn suspects(
+fn far_apart(
     (ours, theirs, whole): (&IndexedMesh, &IndexedMesh, &IndexedMesh),
     bounds: &Bounds,
     distance: f32,
@@ -979,8 +972,15 @@ fn far_points(
     Ok(far.into_iter().flatten().collect())
 }
 
-/// The input's triangles a graft does not copy.
-fn left_out(graft: &Graft, theirs: &Side) -> IndexedMesh {
+/// What step 4 measures of a graft: the result, its kept triangles and strips alone, and the
+/// input's triangles it does not copy.
+fn measured(
+    graft: &Graft,
+    ours: &IndexedMesh,
+    theirs: &Side,
+) -> (IndexedMesh, IndexedMesh, IndexedMesh) {
+    let part = assemble((&graft.kept, &graft.copied, &graft.zip), ours, theirs.mesh);
+    let joined = assemble((&graft.kept, &[], &graft.zip), ours, theirs.mesh);
     let mut copied = graft.copied.iter().peekable();
     let left: Vec<u32> = theirs
         .triangles
@@ -988,7 +988,7 @@ fn left_out(graft: &Graft, theirs: &Side) -> IndexedMesh {
         .copied()
         .filter(|&t| copied.next_if_eq(&&t).is_none())
         .collect();
-    submesh(theirs.mesh, &left)
+    (part, joined, submesh(theirs.mesh, &left))
 }
 
 /// Step 4 of the module comment; `theirs` is the input's component grafted in.
@@ -998,35 +998,20 @@ fn check(
     theirs: &Side,
     bounds: &Bounds,
 ) -> Result<Verdict, SubgridError> {
-    let part = assemble((&graft.kept, &graft.copied, &graft.zip), ours, theirs.mesh);
+    let (part, joined, left) = measured(graft, ours, theirs);
     // The shape is judged while the distances are measured on the other core: a result that
-    // fails on shape wastes the measurement, but most results pass.
-    let (shape, measured) = rayon::join(
+    // fails on shape wastes the measurement, but most results pass. The copied triangles are the
+    // input's own, so no sample of theirs lies off either surface: only the kept triangles and
+    // the strips are measured against the input, and only the input's triangles left out
+    // against the result.
+    let (shape, far) = rayon::join(
         || shape_verdict(&part, bounds),
-        || -> Result<_, SubgridError> {
-            // The copied triangles are the input's own, so no sample of theirs lies off either
-            // surface: only the kept triangles and the strips are measured against the input.
-            let joined = assemble((&graft.kept, &[], &graft.zip), ours, theirs.mesh);
-            let far = far_points(
-                bounds.backend,
-                bounds.target_bvh,
-                &joined,
-                bounds.max_distance,
-            )?;
-            Ok((far, Bvh::build(&part)?))
-        },
+        || far_apart((&joined, &left, &part), bounds, bounds.max_distance),
     );
     if let Some(verdict) = shape {
         return Ok(verdict);
     }
-    let (mut far, part_bvh) = measured?;
-    // And only the input's triangles left out against the result.
-    far.extend(far_points(
-        bounds.backend,
-        &part_bvh,
-        &left_out(graft, theirs),
-        bounds.max_distance,
-    )?);
+    let far = far?;
     Ok(if far.is_empty() {
         Verdict::Meets
     } else {

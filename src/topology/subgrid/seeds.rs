@@ -34,7 +34,7 @@ use crate::geometry::Components;
 use crate::grid::{GridFrame, LatticeMesh, cross_axes, rasterize};
 use crate::mesh::IndexedMesh;
 use crate::topology::classify::dilate;
-use crate::topology::clusters::{clusters, euler, holders};
+use crate::topology::clusters::{clusters, euler, holders, touching};
 use crate::topology::keys::{Cell, PARALLEL_EDGES};
 use crate::topology::nearest::Survivors;
 
@@ -195,18 +195,9 @@ fn euler_changes(
     let holders = holders(grown);
     let none: Vec<u32> = Vec::new();
     let clusters_at = |p: Vec3| holders.get(&cell(frame, p)).unwrap_or(&none);
-    let mut removed: Vec<Vec<u32>> = vec![Vec::new(); grown.len()];
-    for (t, tri) in ours.triangles.iter().enumerate() {
-        let mut touched: Vec<u32> = tri
-            .iter()
-            .flat_map(|&v| clusters_at(ours.positions[v as usize]).iter().copied())
-            .collect();
-        touched.sort_unstable();
-        touched.dedup();
-        for k in touched {
-            removed[k as usize].push(t as u32);
-        }
-    }
+    let removed = touching(&ours.triangles, grown.len(), |v| {
+        clusters_at(ours.positions[v as usize])
+    });
     let mut copied: Vec<Vec<u32>> = vec![Vec::new(); grown.len()];
     for (t, tri) in input.triangles.iter().enumerate() {
         let [a, b, c] = tri.map(|v| clusters_at(input.positions[v as usize]));
