@@ -113,6 +113,31 @@ fn synthetic_frame_tree_is_well_formed() {
     assert!((bvh.mean_edge_length() - reference).abs() <= 1e-6 * reference);
 }
 
+/// A tree built without normals answers what the full one answers but signs and normals: the
+/// same nearest triangles, points and weights, the same distances up to sign, the same scale.
+#[test]
+fn unsigned_tree_finds_what_the_full_one_finds() {
+    let mesh = metaballs(40, 0.7, 0.3);
+    let (full, unsigned) = (
+        Bvh::build(&mesh).unwrap(),
+        Bvh::build_unsigned(&mesh).unwrap(),
+    );
+    check_structure(&mesh, &unsigned);
+    assert_eq!(unsigned.mean_edge_length(), full.mean_edge_length());
+    let queries = metaballs(24, 1.9, 0.55).positions;
+    let a = closest_points(&Backend::Cpu, &full, &queries, 3.0).unwrap();
+    let b = closest_points(&Backend::Cpu, &unsigned, &queries, 3.0).unwrap();
+    let mut hits = 0;
+    for (a, b) in a.iter().zip(&b) {
+        assert_eq!(a.hit_triangle(), b.hit_triangle());
+        assert_eq!((a.point, a.barycentric), (b.point, b.barycentric));
+        assert_eq!(a.distance.abs(), b.distance.abs());
+        assert_eq!(b.normal, Vec3::ZERO);
+        hits += usize::from(a.hit_triangle().is_some());
+    }
+    assert!(hits > queries.len() / 2, "{hits} of {} hit", queries.len());
+}
+
 #[test]
 fn tiny_targets_work() {
     let positions = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];

@@ -78,9 +78,16 @@ pub fn surface_distances(
     tracked: &IndexedMesh,
     input: &IndexedMesh,
 ) -> Result<SurfaceDistances, ProjectError> {
-    let (to_input, sum_a, n_a) = one_side(backend, &Bvh::build(input)?, &surface_samples(tracked))?;
-    let (to_tracked, sum_b, n_b) =
-        one_side(backend, &Bvh::build(tracked)?, &surface_samples(input))?;
+    let (to_input, sum_a, n_a) = one_side(
+        backend,
+        &Bvh::build_unsigned(input)?,
+        &surface_samples(tracked),
+    )?;
+    let (to_tracked, sum_b, n_b) = one_side(
+        backend,
+        &Bvh::build_unsigned(tracked)?,
+        &surface_samples(input),
+    )?;
     let n = (n_a + n_b).max(1);
     Ok(SurfaceDistances {
         tracked_to_input: to_input,

@@ -4,7 +4,7 @@ use rayon::prelude::*;
 
 use super::build::{self, MAX_LEAF, STACK_SIZE};
 use super::gpu::GpuBvh;
-use super::shading::Shading;
+use super::shading::{Shading, mean_edge_length};
 use super::{ProjectError, triangle_bounds};
 use crate::compute::{Backend, ComputeError, GpuContext};
 use crate::kernels::shared::{BvhChild, BvhNode, BvhTriangle, NormalTriple, PseudoNormals};
@@ -33,6 +33,22 @@ impl Bvh {
     /// be closed, though closest-point signs are only meaningful for a closed, consistently oriented
     /// mesh.
     pub fn build(mesh: &IndexedMesh) -> Result<Bvh, ProjectError> {
+        Self::build_with(mesh, Normals::Shaded)
+    }
+
+    /// Builds the BVH of a mesh that is only measured against: the same tree, so queries find
+    /// the same nearest triangles, points and weights at the same distances (up to sign) as with
+    /// [`Bvh::build`], without the vertex normals and pseudo-normals, which are about half the
+    /// cost of a build. Signs of distances then mean nothing (the edge and corner pseudo-normals
+    /// that decide them are zero) and interpolated normals are zero. For the queries that ask
+    /// only how far one surface lies from another or which triangle is nearest: the sub-grid
+    /// match's distance bounds (several per frame on torn fluid frames), the data transfer of
+    /// topology patches and of `propagate`, and `eval`.
+    pub fn build_unsigned(mesh: &IndexedMesh) -> Result<Bvh, ProjectError> {
+        Self::build_with(mesh, Normals::None)
+    }
+
+    fn build_with(mesh: &IndexedMesh, normals: Normals) -> Result<Bvh, ProjectError> {
         if mesh.triangles.is_empty() {
             return Err(ProjectError::Target(MeshError::Empty));
         }
@@ -67,7 +83,13 @@ impl Bvh {
                 other => ProjectError::Compute(other),
             },
         )?;
-        let (tree, shading) = rayon::join(|| build::build(&boxes), || Shading::new(mesh));
+        let (tree, shading) = rayon::join(
+            || build::build(&boxes),
+            || match normals {
+                Normals::Shaded => Ok(Shading::new(mesh)),
+                Normals::None => Err(mean_edge_length(mesh)),
+            },
+        );
         let triangles = tree
             .order
             .par_iter()
@@ -76,13 +98,26 @@ impl Bvh {
                 BvhTriangle::new(corners, t)
             })
             .collect();
-        let (normals, pseudo) = shading.in_leaf_order(mesh, &tree.order);
+        let (normals, pseudo, mean_edge_length) = match shading {
+            Ok(shading) => {
+                let (normals, pseudo) = shading.in_leaf_order(mesh, &tree.order);
+                (normals, pseudo, shading.mean_edge_length)
+            }
+            Err(mean_edge_length) => {
+                let slots = tree.order.len();
+                (
+                    vec![bytemuck::Zeroable::zeroed(); slots],
+                    vec![bytemuck::Zeroable::zeroed(); slots],
+                    mean_edge_length,
+                )
+            }
+        };
         Ok(Bvh {
             nodes: tree.nodes,
             triangles,
             normals,
             pseudo,
-            mean_edge_length: shading.mean_edge_length,
+            mean_edge_length,
             resident: OnceLock::new(),
         })
     }
@@ -133,6 +168,13 @@ impl Bvh {
 
     /// Most triangles in one leaf.
     pub const MAX_LEAF_TRIANGLES: usize = MAX_LEAF;
+}
+
+/// Whether a build computes the normals that sign distances and shade hits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Normals {
+    Shaded,
+    None,
 }
 
 /// The upload a [`Bvh`] keeps for the context it was first queried on. The weak reference both

@@ -38,10 +38,15 @@ struct Corners {
 struct Edges {
     /// The triangle across each edge: the first in mesh order with the reversed edge.
     twins: [Option<u32>; 3],
-    /// Total length of the edges this triangle owns: an undirected edge belongs to the first
-    /// triangle, in mesh order, that has it, so each is counted once.
-    owned_length: f64,
-    owned: u32,
+    owned: Owned,
+}
+
+/// The edges a triangle owns: an undirected edge belongs to the first triangle, in mesh order,
+/// that has it, so each is counted once.
+#[derive(Debug, Clone, Copy, Default)]
+struct Owned {
+    length: f64,
+    count: u32,
 }
 
 impl Shading {
@@ -69,18 +74,11 @@ impl Shading {
             .into_par_iter()
             .map(|t| edges(mesh, &around, t))
             .collect();
-        let (length, count) = edges.iter().fold((0.0f64, 0u64), |(l, n), e| {
-            (l + e.owned_length, n + u64::from(e.owned))
-        });
         Self {
             vertex,
             faces,
             twins: edges.iter().map(|e| e.twins).collect(),
-            mean_edge_length: if count == 0 {
-                0.0
-            } else {
-                (length / count as f64) as f32
-            },
+            mean_edge_length: mean_length(edges.iter().map(|e| e.owned)),
         }
     }
 
@@ -144,18 +142,27 @@ fn corners(mesh: &IndexedMesh, tri: [u32; 3]) -> (Vec3, Corners) {
 fn edges(mesh: &IndexedMesh, around: &VertexFaces, t: usize) -> Edges {
     let triangles = &mesh.triangles;
     let tri = triangles[t];
-    let mut edges = Edges {
-        twins: [None; 3],
-        owned_length: 0.0,
-        owned: 0,
-    };
-    for k in 0..3 {
+    let twins = [0, 1, 2].map(|k| {
         let (a, b) = (tri[k], tri[(k + 1) % 3]);
-        edges.twins[k] = around
+        around
             .around(b)
             .iter()
             .copied()
-            .find(|&f| has_edge(triangles[f as usize], b, a));
+            .find(|&f| has_edge(triangles[f as usize], b, a))
+    });
+    Edges {
+        twins,
+        owned: owned(mesh, around, t),
+    }
+}
+
+/// The edges triangle `t` owns and their total length.
+fn owned(mesh: &IndexedMesh, around: &VertexFaces, t: usize) -> Owned {
+    let triangles = &mesh.triangles;
+    let tri = triangles[t];
+    let mut owned = Owned::default();
+    for k in 0..3 {
+        let (a, b) = (tri[k], tri[(k + 1) % 3]);
         let first = around
             .around(a.min(b))
             .iter()
@@ -163,11 +170,34 @@ fn edges(mesh: &IndexedMesh, around: &VertexFaces, t: usize) -> Edges {
             .find(|&f| triangles[f as usize].contains(&a.max(b)));
         if first == Some(t as u32) && a != b {
             let (pa, pb) = (mesh.positions[a as usize], mesh.positions[b as usize]);
-            edges.owned_length += f64::from(pa.distance(pb));
-            edges.owned += 1;
+            owned.length += f64::from(pa.distance(pb));
+            owned.count += 1;
         }
     }
-    edges
+    owned
+}
+
+/// The mean length of the edges of `owned` (per triangle, in mesh order, summed in that order).
+fn mean_length(owned: impl Iterator<Item = Owned>) -> f32 {
+    let (length, count) = owned.fold((0.0f64, 0u64), |(l, n), o| {
+        (l + o.length, n + u64::from(o.count))
+    });
+    if count == 0 {
+        0.0
+    } else {
+        (length / count as f64) as f32
+    }
+}
+
+/// The mean edge length of `mesh`, each undirected edge counted once: what [`Shading::new`]
+/// computes besides the normals, for a tree that needs no normals.
+pub(super) fn mean_edge_length(mesh: &IndexedMesh) -> f32 {
+    let around = VertexFaces::new(mesh.positions.len(), &mesh.triangles);
+    let owned: Vec<Owned> = (0..mesh.triangles.len())
+        .into_par_iter()
+        .map(|t| owned(mesh, &around, t))
+        .collect();
+    mean_length(owned.into_iter())
 }
 
 fn has_edge(tri: [u32; 3], a: u32, b: u32) -> bool {

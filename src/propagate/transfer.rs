@@ -51,7 +51,7 @@ pub fn transfer(path: &Path, name: &str, mesh: &IndexedMesh) -> Result<Attribute
         name: name.to_string(),
         source,
     };
-    let bvh = Bvh::build(&source).map_err(failed)?;
+    let bvh = Bvh::build_unsigned(&source).map_err(failed)?;
     let found =
         closest_points(&Backend::Cpu, &bvh, &mesh.positions, f32::INFINITY).map_err(failed)?;
     let mut values = Vec::with_capacity(mesh.positions.len() * k);

@@ -92,7 +92,7 @@ fn tree_of(positions: &[Vec3], triangles: &[[u32; 3]]) -> Result<Option<Bvh>, Pr
     if triangles.is_empty() {
         return Ok(None);
     }
-    Ok(Some(Bvh::build(&IndexedMesh::new(
+    Ok(Some(Bvh::build_unsigned(&IndexedMesh::new(
         positions.to_vec(),
         triangles.to_vec(),
     ))?))

@@ -85,7 +85,7 @@ pub(super) fn decide(
                     }
                     far_components(
                         backend,
-                        &Bvh::build(&staying)?,
+                        &Bvh::build_unsigned(&staying)?,
                         target,
                         target_labels,
                         theirs.len(),

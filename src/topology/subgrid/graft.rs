@@ -947,7 +947,7 @@ fn far_apart(
 ) -> Result<Vec<Vec3>, SubgridError> {
     let (from_input, whole_bvh) = rayon::join(
         || far_points(bounds.backend, bounds.target_bvh, ours, distance),
-        || Bvh::build(whole),
+        || Bvh::build_unsigned(whole),
     );
     let mut found = from_input?;
     found.extend(far_points(bounds.backend, &whole_bvh?, theirs, distance)?);
