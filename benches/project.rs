@@ -2,7 +2,8 @@
 //! and their normals (200k normal rays, both directions), the workload of the parity tests.
 //!
 //! - `project/build`: `Bvh::build` (SAH tree, leaf-ordered triangles, normals, pseudo-normals,
-//!   mean edge length) for 100k and 300k triangles, on one thread and on two.
+//!   mean edge length) for 100k and 300k triangles, on one thread and on two; `unsigned_*` the
+//!   same with `Bvh::build_unsigned` (no normals).
 //! - `project/rays`: `project` (one line query per point, both directions at once) on one thread
 //!   and on two; `cast_ray_1_thread` casts the 200k rays one direction at a time, like a
 //!   single-ray tracer; the GPU variants with and without the per-call transfers.
@@ -162,6 +163,13 @@ fn cpu_groups<M: Measurement>(
             group.bench_with_input(BenchmarkId::new(name(*threads), n), mesh, |b, mesh| {
                 b.iter(|| pool.install(|| Bvh::build(black_box(mesh)).expect("bvh")))
             });
+            group.bench_with_input(
+                BenchmarkId::new(format!("unsigned_{}", name(*threads)), n),
+                mesh,
+                |b, mesh| {
+                    b.iter(|| pool.install(|| Bvh::build_unsigned(black_box(mesh)).expect("bvh")))
+                },
+            );
         }
     }
     extra(Stage::Build, &mut group);
