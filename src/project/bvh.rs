@@ -38,12 +38,12 @@ impl Bvh {
 
     /// Builds the BVH of a mesh that is only measured against: the same tree, so queries find
     /// the same nearest triangles, points and weights at the same distances (up to sign) as with
-    /// [`Bvh::build`], without the vertex normals and pseudo-normals, a fifth of a build's time
-    /// (`cargo bench --bench project -- project/build`). Signs of distances then mean nothing (the edge and corner pseudo-normals
-    /// that decide them are zero) and interpolated normals are zero. For the queries that ask
-    /// only how far one surface lies from another or which triangle is nearest: the sub-grid
-    /// match's distance bounds (several per frame on torn fluid frames), the data transfer of
-    /// topology patches and of `propagate`, and `eval`.
+    /// [`Bvh::build`], without the vertex normals and pseudo-normals: a fifth of a build's time
+    /// (`cargo bench --bench project -- project/build`). Signs of distances then mean nothing
+    /// (the edge and corner pseudo-normals that decide them are zero) and interpolated normals
+    /// are zero. For the queries that ask only how far one surface lies from another or which
+    /// triangle is nearest: the sub-grid match's distance bounds (several per frame on torn fluid
+    /// frames), the data transfer of topology patches and of `propagate`, and `eval`.
     pub fn build_unsigned(mesh: &IndexedMesh) -> Result<Bvh, ProjectError> {
         Self::build_with(mesh, Normals::None)
     }
