@@ -5,7 +5,7 @@
 use glam::Vec3;
 
 use super::graft::{self, Bounds, Graft, Side};
-use super::matching::far_components;
+use super::matching::{Against, far_components};
 use super::{Fidelity, SMALL_CELLS, SubgridCounts, SubgridError, Surfaces};
 use crate::project::Bvh;
 
@@ -34,7 +34,7 @@ pub(super) fn decide(
     let (ours, our_labels, our_triangles) = (&s.ours.list, &s.ours.labels, &s.ours.triangles);
     let (theirs, target_labels, their_triangles) =
         (&s.theirs.list, &s.theirs.labels, &s.theirs.triangles);
-    let (backend, bvh, spacing, max_distance) = (s.backend, s.bvh, s.spacing, s.max_distance);
+    let (backend, input, spacing, max_distance) = (s.backend, s.input, s.spacing, s.max_distance);
     let small = SMALL_CELLS * spacing;
     let mut members: Vec<Vec<usize>> = vec![Vec::new(); theirs.len()];
     for (c, m) in matched.iter().enumerate() {
@@ -70,7 +70,16 @@ pub(super) fn decide(
             let staying = graft::submesh(current, &stays);
             // The two directions are independent: each measures on its own core.
             let (our_far, their_far) = rayon::join(
-                || far_components(backend, bvh, current, our_labels, ours.len(), max_distance),
+                || {
+                    far_components(
+                        backend,
+                        Against::Input(input),
+                        current,
+                        our_labels,
+                        ours.len(),
+                        max_distance,
+                    )
+                },
                 || -> Result<Vec<Vec<Vec3>>, SubgridError> {
                     if staying.triangles.is_empty() {
                         return Ok(theirs
@@ -85,7 +94,7 @@ pub(super) fn decide(
                     }
                     far_components(
                         backend,
-                        &Bvh::build_unsigned(&staying)?,
+                        Against::Tree(&Bvh::build_unsigned(&staying)?),
                         target,
                         target_labels,
                         theirs.len(),
@@ -160,7 +169,7 @@ pub(super) fn decide(
                     group.len() == 1 && ours[largest].euler == theirs[k].euler,
                     &Bounds {
                         backend,
-                        target_bvh: bvh,
+                        input,
                         spacing,
                         max_distance,
                         euler: theirs[k].euler,

@@ -39,7 +39,7 @@ use glam::Vec3;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::SubgridError;
-use super::matching::far_components;
+use super::matching::{Against, InputDistances, far_components};
 use super::seeds::{self, cell};
 use crate::compute::Backend;
 use crate::grid::GridFrame;
@@ -133,7 +133,7 @@ impl<'a> Side<'a> {
 pub(super) struct Bounds<'a> {
     pub backend: &'a Backend,
     /// The input's tree, for the distance check of the result.
-    pub target_bvh: &'a Bvh,
+    pub input: &'a InputDistances<'a>,
     pub spacing: f32,
     pub max_distance: f32,
     /// The Euler characteristic of the input's component.
@@ -946,24 +946,29 @@ fn far_apart(
     distance: f32,
 ) -> Result<Vec<Vec3>, SubgridError> {
     let (from_input, whole_bvh) = rayon::join(
-        || far_points(bounds.backend, bounds.target_bvh, ours, distance),
+        || far_points(bounds.backend, Against::Input(bounds.input), ours, distance),
         || Bvh::build_unsigned(whole),
     );
     let mut found = from_input?;
-    found.extend(far_points(bounds.backend, &whole_bvh?, theirs, distance)?);
+    found.extend(far_points(
+        bounds.backend,
+        Against::Tree(&whole_bvh?),
+        theirs,
+        distance,
+    )?);
     Ok(found)
 }
 
-/// The samples of `mesh` farther than `distance` from the surface in `bvh`.
+/// The samples of `mesh` farther than `distance` from the surface `against`.
 fn far_points(
     backend: &Backend,
-    bvh: &Bvh,
+    against: Against,
     mesh: &IndexedMesh,
     distance: f32,
 ) -> Result<Vec<Vec3>, SubgridError> {
     let far = far_components(
         backend,
-        bvh,
+        against,
         mesh,
         &vec![0; mesh.positions.len()],
         1,

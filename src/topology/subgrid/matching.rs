@@ -1,7 +1,10 @@
 //! Where each component lies: the component of the other surface each one is on (by a vote of
 //! its vertices), and the samples of each farther than the distance bound from the other.
 
+use std::sync::Mutex;
+
 use glam::Vec3;
+use rustc_hash::FxHashMap;
 
 use super::{SubgridError, VOTERS};
 use crate::compute::Backend;
@@ -120,9 +123,106 @@ pub(super) fn match_components(
     Ok(matched)
 }
 
+/// Distances to the input frame's surface measured so far in one frame's sub-grid match, by query
+/// point and reach. The match, its re-checks and every graft try's check measure the tracked
+/// vertices against the input again, and most of those vertices have not moved since the last
+/// time; a query's answer depends only on the point, the reach and the tree, so a remembered one
+/// is the answer a new query would give, bit for bit.
+pub(super) struct InputDistances<'a> {
+    pub bvh: &'a Bvh,
+    seen: Mutex<FxHashMap<(u32, [u32; 3]), f32>>,
+}
+
+impl<'a> InputDistances<'a> {
+    pub fn new(bvh: &'a Bvh) -> Self {
+        Self {
+            bvh,
+            seen: Mutex::new(FxHashMap::default()),
+        }
+    }
+
+    /// [`distances`] to the input's surface, querying only points not measured before at `reach`.
+    fn distances(
+        &self,
+        backend: &Backend,
+        points: &[Vec3],
+        reach: f32,
+    ) -> Result<Vec<f32>, SubgridError> {
+        let key = |p: &Vec3| (reach.to_bits(), p.to_array().map(f32::to_bits));
+        let mut out = vec![0.0; points.len()];
+        let mut missing = Vec::new();
+        {
+            let seen = self.seen.lock().unwrap_or_else(|e| e.into_inner());
+            for (i, p) in points.iter().enumerate() {
+                match seen.get(&key(p)) {
+                    Some(&d) => out[i] = d,
+                    None => missing.push(i),
+                }
+            }
+        }
+        let asked: Vec<Vec3> = missing.iter().map(|&i| points[i]).collect();
+        let found = distances(backend, self.bvh, &asked, reach)?;
+        let mut seen = self.seen.lock().unwrap_or_else(|e| e.into_inner());
+        for (&i, d) in missing.iter().zip(found) {
+            out[i] = d;
+            seen.insert(key(&points[i]), d);
+        }
+        Ok(out)
+    }
+}
+
+/// The surface `far_components` measures against: any tree, or the input's through what was
+/// measured before.
+#[derive(Clone, Copy)]
+pub(super) enum Against<'a> {
+    Tree(&'a Bvh),
+    Input(&'a InputDistances<'a>),
+}
+
+impl Against<'_> {
+    fn bvh(&self) -> &Bvh {
+        match self {
+            Self::Tree(bvh) => bvh,
+            Self::Input(input) => input.bvh,
+        }
+    }
+
+    fn distances(
+        &self,
+        backend: &Backend,
+        points: &[Vec3],
+        reach: f32,
+    ) -> Result<Vec<f32>, SubgridError> {
+        match self {
+            Self::Tree(bvh) => distances(backend, bvh, points, reach),
+            Self::Input(input) => input.distances(backend, points, reach),
+        }
+    }
+}
+
+/// The unsigned distance from each point to the surface in `bvh`, infinite beyond `reach` (mean
+/// edge lengths).
+fn distances(
+    backend: &Backend,
+    bvh: &Bvh,
+    points: &[Vec3],
+    reach: f32,
+) -> Result<Vec<f32>, SubgridError> {
+    if points.is_empty() {
+        return Ok(Vec::new());
+    }
+    Ok(closest_points(backend, bvh, points, reach)?
+        .iter()
+        .map(|hit| match hit.hit_triangle() {
+            Some(_) => hit.distance.abs(),
+            None => f32::INFINITY,
+        })
+        .collect())
+}
+
 /// The samples of each component of `mesh` (vertex labels `labels`, `count` components) farther
-/// than `max_distance` (world units) from the surface in `bvh`, measured where `eval` measures: at every
-/// vertex, edge midpoint and triangle centroid.
+/// than `max_distance` (world units) from the surface `against`, measured where `eval` measures:
+/// at every vertex, edge midpoint and triangle centroid.
 ///
 /// Only vertices are queried first: distance to a surface is 1-Lipschitz, so a midpoint or
 /// centroid lies within `max_distance` when one of its triangle's vertices lies within
@@ -131,20 +231,14 @@ pub(super) fn match_components(
 /// vertex instead of four.
 pub(super) fn far_components(
     backend: &Backend,
-    bvh: &Bvh,
+    against: Against,
     mesh: &IndexedMesh,
     labels: &[u32],
     count: usize,
     max_distance: f32,
 ) -> Result<Vec<Vec<Vec3>>, SubgridError> {
-    let reach = max_distance / bvh.mean_edge_length();
-    let distance: Vec<f32> = closest_points(backend, bvh, &mesh.positions, reach)?
-        .iter()
-        .map(|hit| match hit.hit_triangle() {
-            Some(_) => hit.distance.abs(),
-            None => f32::INFINITY,
-        })
-        .collect();
+    let reach = max_distance / against.bvh().mean_edge_length();
+    let distance = against.distances(backend, &mesh.positions, reach)?;
     let mut far: Vec<Vec<Vec3>> = vec![Vec::new(); count];
     let mut mark = |label: Option<&u32>, p: Vec3| {
         if let Some(f) = label.and_then(|&k| far.get_mut(k as usize)) {
@@ -180,11 +274,48 @@ pub(super) fn far_components(
     if open.is_empty() {
         return Ok(far);
     }
-    let found = closest_points(backend, bvh, &open, reach)?;
-    for ((hit, owner), &p) in found.iter().zip(&owners).zip(&open) {
-        if hit.hit_triangle().is_none() {
+    let found = against.distances(backend, &open, reach)?;
+    for ((d, owner), &p) in found.iter().zip(&owners).zip(&open) {
+        if d.is_infinite() {
             mark(Some(owner), p);
         }
     }
     Ok(far)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Remembered distances are the ones a new query gives, for points seen before and not, at
+    /// each reach, and a sample out of reach stays out of reach.
+    #[test]
+    fn remembered_distances_are_fresh_ones() {
+        let target = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
+        let bvh = Bvh::build_unsigned(&target).unwrap();
+        let input = InputDistances::new(&bvh);
+        let backend = Backend::Cpu;
+        let points = |scale: f32| -> Vec<Vec3> {
+            IndexedMesh::icosphere(Vec3::new(0.05, -0.02, 0.01), scale, 2).positions
+        };
+        let (near, far) = (points(1.02), points(1.6));
+        let reach = 0.5 / bvh.mean_edge_length();
+        for (batch, reach) in [
+            (&near, reach),
+            (&far, reach),
+            (&near, reach),
+            (&far, 2.0 * reach),
+        ] {
+            let fresh = distances(&backend, &bvh, batch, reach).unwrap();
+            let remembered = input.distances(&backend, batch, reach).unwrap();
+            assert_eq!(fresh, remembered);
+        }
+        let twice = input.distances(&backend, &far, reach).unwrap();
+        assert!(twice.iter().all(|d| d.is_infinite()));
+        let mixed: Vec<Vec3> = near.iter().chain(&far).copied().collect();
+        assert_eq!(
+            input.distances(&backend, &mixed, reach).unwrap(),
+            distances(&backend, &bvh, &mixed, reach).unwrap()
+        );
+    }
 }

@@ -42,7 +42,7 @@ use crate::grid::RasterError;
 use crate::improve::{ImproveError, ImproveParams, improve};
 use crate::mesh::{IndexedMesh, Mesh, MeshError};
 use crate::project::{Bvh, ProjectError};
-use matching::Components;
+use matching::{Components, InputDistances};
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
 use std::time::{Duration, Instant};
@@ -111,10 +111,10 @@ struct Surfaces<'a> {
     /// The tracked mesh and its components.
     current: &'a IndexedMesh,
     ours: &'a Components,
-    /// The input frame, its components and its tree.
+    /// The input frame, its components, and its tree with the distances to it measured so far.
     target: &'a IndexedMesh,
     theirs: &'a Components,
-    bvh: &'a Bvh,
+    input: &'a InputDistances<'a>,
     /// The topology grid's spacing, and the farthest either surface may lie from the other
     /// (world units).
     spacing: f32,
@@ -134,6 +134,24 @@ pub fn match_below_grid(
     max_distance: f32,
     fidelity: Fidelity,
 ) -> Result<SubgridCounts, SubgridError> {
+    let input = InputDistances::new(bvh);
+    match_against(
+        backend,
+        mesh,
+        (target, &input),
+        (spacing, max_distance),
+        fidelity,
+    )
+}
+
+/// [`match_below_grid`] with the distances to the input measured so far in this frame.
+fn match_against(
+    backend: &Backend,
+    mesh: &mut Mesh,
+    (target, input): (&IndexedMesh, &InputDistances),
+    (spacing, max_distance): (f32, f32),
+    fidelity: Fidelity,
+) -> Result<SubgridCounts, SubgridError> {
     let current = mesh.to_indexed();
     let (ours, theirs) = rayon::join(|| Components::of(&current), || Components::of(target));
     let surfaces = Surfaces {
@@ -142,7 +160,7 @@ pub fn match_below_grid(
         ours: &ours,
         target,
         theirs: &theirs,
-        bvh,
+        input,
         spacing,
         max_distance,
     };
@@ -151,7 +169,7 @@ pub fn match_below_grid(
         &current,
         &ours.list,
         (target, &theirs.labels, theirs.list.len()),
-        bvh,
+        input.bvh,
         spacing,
     )?;
     let plan = decide::decide(&surfaces, &matched, fidelity)?;
@@ -195,14 +213,18 @@ pub fn match_and_improve(
         report.improve_records.push(mark..mesh.journal_len());
         Ok(())
     };
-    let mut counts = match_below_grid(backend, mesh, target, spacing, max_distance, fidelity)?;
+    // One frame's calls measure the same unmoved vertices against the same input.
+    let input = InputDistances::new(target.1);
+    let target = (target.0, &input);
+    let bounds = (spacing, max_distance);
+    let mut counts = match_against(backend, mesh, target, bounds, fidelity)?;
     improve_timed(mesh)?;
     let mut grafted = counts.grafted;
     for round in 0..=RECHECKS {
         if grafted == 0 {
             break;
         }
-        let recheck = match_below_grid(backend, mesh, target, spacing, max_distance, fidelity)?;
+        let recheck = match_against(backend, mesh, target, bounds, fidelity)?;
         grafted = recheck.grafted;
         if !recheck.changed() {
             break;
