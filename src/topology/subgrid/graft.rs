@@ -132,7 +132,7 @@ impl<'a> Side<'a> {
 /// The bounds a graft must meet.
 pub(super) struct Bounds<'a> {
     pub backend: &'a Backend,
-    /// The input's tree, for the distance check of the result.
+    /// The input's tree and the distances to it measured so far, for the result's distance check.
     pub input: &'a InputDistances<'a>,
     pub spacing: f32,
     pub max_distance: f32,
