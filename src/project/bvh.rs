@@ -86,8 +86,8 @@ impl Bvh {
         let (tree, shading) = rayon::join(
             || build::build(&boxes),
             || match normals {
-                Normals::Shaded => Ok(Shading::new(mesh)),
-                Normals::None => Err(mean_edge_length(mesh)),
+                Normals::Shaded => Beside::Shading(Shading::new(mesh)),
+                Normals::None => Beside::MeanEdgeLength(mean_edge_length(mesh)),
             },
         );
         let triangles = tree
@@ -99,11 +99,11 @@ impl Bvh {
             })
             .collect();
         let (normals, pseudo, mean_edge_length) = match shading {
-            Ok(shading) => {
+            Beside::Shading(shading) => {
                 let (normals, pseudo) = shading.in_leaf_order(mesh, &tree.order);
                 (normals, pseudo, shading.mean_edge_length)
             }
-            Err(mean_edge_length) => {
+            Beside::MeanEdgeLength(mean_edge_length) => {
                 let slots = tree.order.len();
                 (
                     vec![bytemuck::Zeroable::zeroed(); slots],
@@ -175,6 +175,13 @@ impl Bvh {
 enum Normals {
     Shaded,
     None,
+}
+
+/// What a build computes beside the tree: the shading, or (without normals) only the mean edge
+/// length the queries measure in.
+enum Beside {
+    Shading(Shading),
+    MeanEdgeLength(f32),
 }
 
 /// The upload a [`Bvh`] keeps for the context it was first queried on. The weak reference both
