@@ -41,6 +41,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use super::SubgridError;
 use super::matching::{Against, InputDistances, far_components};
 use super::seeds::{self, cell};
+use super::stitch::least_cost_steps;
 use crate::compute::Backend;
 use crate::grid::GridFrame;
 use crate::mesh::{IndexedMesh, degenerate_triangle, min_angle_degrees};
@@ -685,13 +686,11 @@ const FOLD_COST: f32 = 100.0;
 /// number of folds, so the strip avoids it wherever another exists.
 const DEGENERATE_COST: f32 = 1.0e6;
 
-/// Rows of [`zip_loops`]' table whose step costs are computed together, in parallel.
-const ZIP_BLOCK: usize = 64;
-
 /// Joins the kept loop `a` and the copied loop `c` with a strip of triangles, from their closest
 /// pair of vertices round to it again. Among all such strips (each triangle spans one edge of one
 /// loop and a vertex of the other) it takes the one of least cost (shape, and turning against the
 /// boundary), found by dynamic programming over the two loops like optimal contour stitching.
+/// ([`least_cost_steps`] fills only the part of the table that can matter.)
 fn zip_loops(a: &Rim, c: &Rim) -> Vec<[Corner; 3]> {
     // The copied loop runs the other way round the gap.
     let rc: Vec<u32> = c.points.iter().rev().copied().collect();
@@ -735,76 +734,25 @@ fn zip_loops(a: &Rim, c: &Rim) -> Vec<[Corner; 3]> {
     // Advancing along theirs adds [c_j, a_i, c_j+1]; its copied neighbour holds (c_j, c_j+1).
     let step_theirs =
         |i: usize, j: usize| cost([theirs[j], ours[i], theirs[j + 1]], their_normals[j]);
-    // The table is filled a block of rows at a time: the block's step costs (most of the work)
-    // in parallel, then its rows in order, each from the one before, so only two rows of sums are
-    // held; the choices are kept whole for the walk back.
-    let width = m + 1;
-    let mut from_ours = vec![false; (n + 1) * width];
-    let mut above = vec![f32::INFINITY; width];
-    let mut row = vec![f32::INFINITY; width];
-    let block = ZIP_BLOCK.min(n + 1);
-    let (mut down, mut across) = (vec![0.0f32; block * width], vec![0.0f32; block * width]);
-    for first in (0..=n).step_by(block) {
-        let rows = block.min(n + 1 - first);
-        down[..rows * width]
-            .par_chunks_mut(width)
-            .zip(across[..rows * width].par_chunks_mut(width))
-            .enumerate()
-            .for_each(|(k, (down, across))| {
-                let i = first + k;
-                for j in 0..=m {
-                    if i > 0 {
-                        down[j] = step_ours(i - 1, j);
-                    }
-                    if j > 0 {
-                        across[j] = step_theirs(i, j - 1);
-                    }
-                }
-            });
-        for k in 0..rows {
-            let i = first + k;
-            for j in 0..=m {
-                let here = i * width + j;
-                let mut best = if i == 0 && j == 0 { 0.0 } else { f32::INFINITY };
-                if i > 0 {
-                    let c = above[j] + down[k * width + j];
-                    if c < best {
-                        best = c;
-                        from_ours[here] = true;
-                    }
-                }
-                if j > 0 {
-                    let c = row[j - 1] + across[k * width + j];
-                    if c < best {
-                        best = c;
-                        from_ours[here] = false;
-                    }
-                }
-                row[j] = best;
-            }
-            std::mem::swap(&mut above, &mut row);
-        }
-    }
-    let (mut i, mut j) = (n, m);
+    let (mut i, mut j) = (0, 0);
     let mut strip = Vec::with_capacity(n + m);
-    while i > 0 || j > 0 {
-        if from_ours[i * width + j] {
-            i -= 1;
+    for along_ours in least_cost_steps(n, m, step_ours, step_theirs) {
+        if along_ours {
             strip.push([
                 Corner::Ours(va(i)),
                 Corner::Ours(va(i + 1)),
                 Corner::Theirs(vc(j)),
             ]);
+            i += 1;
         } else {
-            j -= 1;
             strip.push([
                 Corner::Theirs(vc(j)),
                 Corner::Ours(va(i)),
                 Corner::Theirs(vc(j + 1)),
             ]);
+            j += 1;
         }
     }
-    strip.reverse();
     strip
 }
 

@@ -36,6 +36,7 @@ mod graft;
 mod matching;
 mod rebuild;
 mod seeds;
+mod stitch;
 
 use crate::compute::Backend;
 use crate::grid::RasterError;
