@@ -771,7 +771,9 @@ fn rim_normals(side: &Side, mask: &[bool]) -> FxHashMap<(u32, u32), Vec3> {
 }
 
 /// The triangles `kept` of `ours`, `copied` of `theirs` and the strips `zip` as a mesh of their
-/// own, with its vertices in [`Corner`] order.
+/// own, with its vertices in [`Corner`] order: the tracked mesh's in index order, then the
+/// input's. Every try's check assembles the whole grafted component twice, so the corners are
+/// numbered through one slot per vertex of each mesh rather than by sorting them.
 fn assemble(
     (kept, copied, zip): (&[u32], &[u32], &[[Corner; 3]]),
     ours: &IndexedMesh,
@@ -787,18 +789,30 @@ fn assemble(
         )
         .chain(zip.iter().copied())
         .collect();
-    let mut corners: Vec<Corner> = triangles.iter().flatten().copied().collect();
-    corners.sort_unstable();
-    corners.dedup();
-    let index = |c: Corner| corners.binary_search(&c).map_or(u32::MAX, |i| i as u32);
-    let position = |c: Corner| match c {
-        Corner::Ours(v) => ours.positions[v as usize],
-        Corner::Theirs(v) => theirs.positions[v as usize],
+    let (mut our_slots, mut their_slots) = (
+        vec![u32::MAX; ours.positions.len()],
+        vec![u32::MAX; theirs.positions.len()],
+    );
+    for &c in triangles.iter().flatten() {
+        match c {
+            Corner::Ours(v) => our_slots[v as usize] = 0,
+            Corner::Theirs(v) => their_slots[v as usize] = 0,
+        }
+    }
+    let mut positions = Vec::new();
+    for (slots, mesh) in [(&mut our_slots, ours), (&mut their_slots, theirs)] {
+        for (v, slot) in slots.iter_mut().enumerate() {
+            if *slot == 0 {
+                *slot = positions.len() as u32;
+                positions.push(mesh.positions[v]);
+            }
+        }
+    }
+    let index = |c: Corner| match c {
+        Corner::Ours(v) => our_slots[v as usize],
+        Corner::Theirs(v) => their_slots[v as usize],
     };
-    IndexedMesh::new(
-        corners.iter().map(|&c| position(c)).collect(),
-        triangles.iter().map(|t| t.map(index)).collect(),
-    )
+    IndexedMesh::new(positions, triangles.iter().map(|t| t.map(index)).collect())
 }
 
 /// What step 4 found.
