@@ -43,6 +43,16 @@ impl IndexedMesh {
     /// [`IndexedMesh::topology`] and the component of every vertex, as
     /// [`IndexedMesh::component_labels`] numbers them, from one labelling.
     pub fn topology_with_labels(&self) -> (Topology, Vec<u32>) {
+        self.topology_from_edges(&self.sorted_edges())
+    }
+
+    /// [`IndexedMesh::topology_with_labels`] from the mesh's [`IndexedMesh::sorted_edges`]
+    /// (which [`IndexedMesh::validated_edges`] returns), so a caller that validated the mesh does
+    /// not sort them twice.
+    pub(crate) fn topology_from_edges(
+        &self,
+        edges: &[(u32, u32, bool, u32)],
+    ) -> (Topology, Vec<u32>) {
         let (labels, count) = self.component_labels();
         let mut components = vec![
             ComponentTopology {
@@ -60,7 +70,6 @@ impl IndexedMesh {
         for tri in &self.triangles {
             components[labels[tri[0] as usize] as usize].faces += 1;
         }
-        let edges = self.sorted_edges();
         for group in edges.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
             components[labels[group[0].0 as usize] as usize].edges += 1;
         }

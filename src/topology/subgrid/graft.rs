@@ -867,10 +867,10 @@ fn apart(part: &IndexedMesh, labels: &[u32], spacing: f32) -> Vec<Vec3> {
 /// The verdict on the shape of a grafted `part`, where it fails: not closed and manifold, in
 /// pieces, or not of the input's Euler characteristic.
 fn shape_verdict(part: &IndexedMesh, bounds: &Bounds) -> Option<Verdict> {
-    if part.validate().is_err() {
+    let Ok(edges) = part.validated_edges() else {
         return Some(Verdict::Fails);
-    }
-    let (topology, labels) = part.topology_with_labels();
+    };
+    let (topology, labels) = part.topology_from_edges(&edges);
     if topology.components.len() > 1 {
         let near = apart(part, &labels, bounds.spacing);
         if !near.is_empty() {
