@@ -5,9 +5,8 @@
 use glam::Vec3;
 
 use super::graft::{self, Bounds, Graft, Side};
-use super::matching::{Against, far_components};
+use super::matching::{Against, TrackedNearest, far_components, far_from_tracked};
 use super::{Fidelity, SMALL_CELLS, SubgridCounts, SubgridError, Surfaces};
-use crate::project::Bvh;
 
 /// What the sub-grid match does to each component.
 pub(super) struct Plan {
@@ -51,7 +50,7 @@ pub(super) fn decide(
                 .max_by_key(|&c| (ours[c].vertices.len(), std::cmp::Reverse(c)))
         })
         .collect();
-    let (our_far, their_far) = match fidelity {
+    let (our_far, (their_far, nearest)) = match fidelity {
         Fidelity::Input | Fidelity::InputWhole if !current.triangles.is_empty() => {
             // The input is measured against what stays if every group is faithful: without the
             // unmatched components and the small duplicates, which are deleted then.
@@ -80,9 +79,9 @@ pub(super) fn decide(
                         max_distance,
                     )
                 },
-                || -> Result<Vec<Vec<Vec3>>, SubgridError> {
+                || -> Result<(Vec<Vec<Vec3>>, Option<TrackedNearest>), SubgridError> {
                     if staying.triangles.is_empty() {
-                        return Ok(theirs
+                        let far = theirs
                             .iter()
                             .map(|c| {
                                 c.vertices
@@ -90,21 +89,25 @@ pub(super) fn decide(
                                     .map(|&v| target.positions[v as usize])
                                     .collect()
                             })
-                            .collect());
+                            .collect();
+                        return Ok((far, None));
                     }
-                    far_components(
+                    let (far, nearest) = far_from_tracked(
                         backend,
-                        Against::Tree(&Bvh::build_unsigned(&staying)?),
+                        (&staying, &stays),
                         target,
-                        target_labels,
-                        theirs.len(),
+                        (target_labels, theirs.len()),
                         max_distance,
-                    )
+                    )?;
+                    Ok((far, Some(nearest)))
                 },
             );
             (our_far?, their_far?)
         }
-        _ => (vec![Vec::new(); ours.len()], vec![Vec::new(); theirs.len()]),
+        _ => (
+            vec![Vec::new(); ours.len()],
+            (vec![Vec::new(); theirs.len()], None),
+        ),
     };
 
     // Decide, per component of theirs, which of ours stay on it, or whether a copy replaces them,
@@ -173,6 +176,7 @@ pub(super) fn decide(
                         spacing,
                         max_distance,
                         euler: theirs[k].euler,
+                        nearest: nearest.as_ref(),
                     },
                 )?
             }

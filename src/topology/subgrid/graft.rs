@@ -39,7 +39,8 @@ use glam::Vec3;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::SubgridError;
-use super::matching::{Against, InputDistances, far_components};
+use super::left_out::far_left_out;
+use super::matching::{Against, InputDistances, TrackedNearest, far_components};
 use super::seeds::{self, cell};
 use super::stitch::least_cost_steps;
 use crate::compute::Backend;
@@ -139,6 +140,9 @@ pub(super) struct Bounds<'a> {
     pub max_distance: f32,
     /// The Euler characteristic of the input's component.
     pub euler: i64,
+    /// The tracked triangle nearest each input vertex, as the match measured it (none where no
+    /// tracked triangle stays).
+    pub nearest: Option<&'a TrackedNearest>,
 }
 
 /// Grafts `theirs` into `ours` around the samples `far` (farther than the bound from the other
@@ -208,7 +212,7 @@ pub(super) fn graft(
                     // farther than half the bound, then a quarter; only where none are left does
                     // the whole region grow.
                     Verdict::Fails => {
-                        let (part, joined, left) = measured(&graft, ours.mesh, theirs);
+                        let (part, joined, (_, left)) = measured(&graft, ours.mesh, theirs);
                         let found = suspected(&mut halvings, bounds, |distance| {
                             far_apart((&joined, &left, &part), bounds, distance)
                         })?;
@@ -774,7 +778,7 @@ fn rim_normals(side: &Side, mask: &[bool]) -> FxHashMap<(u32, u32), Vec3> {
 /// own, with its vertices in [`Corner`] order: the tracked mesh's in index order, then the
 /// input's. Every try's check assembles the whole grafted component twice, so the corners are
 /// numbered through one slot per vertex of each mesh rather than by sorting them.
-fn assemble(
+pub(super) fn assemble(
     (kept, copied, zip): (&[u32], &[u32], &[[Corner; 3]]),
     ours: &IndexedMesh,
     theirs: &IndexedMesh,
@@ -940,12 +944,12 @@ fn far_points(
 }
 
 /// What step 4 measures of a graft: the result, its kept triangles and strips alone, and the
-/// input's triangles it does not copy.
+/// input's triangles it does not copy (with their indices).
 fn measured(
     graft: &Graft,
     ours: &IndexedMesh,
     theirs: &Side,
-) -> (IndexedMesh, IndexedMesh, IndexedMesh) {
+) -> (IndexedMesh, IndexedMesh, (Vec<u32>, IndexedMesh)) {
     let part = assemble((&graft.kept, &graft.copied, &graft.zip), ours, theirs.mesh);
     let joined = assemble((&graft.kept, &[], &graft.zip), ours, theirs.mesh);
     let mut copied = graft.copied.iter().peekable();
@@ -955,7 +959,8 @@ fn measured(
         .copied()
         .filter(|&t| copied.next_if_eq(&&t).is_none())
         .collect();
-    (part, joined, submesh(theirs.mesh, &left))
+    let mesh = submesh(theirs.mesh, &left);
+    (part, joined, (left, mesh))
 }
 
 /// Step 4 of the module comment; `theirs` is the input's component grafted in.
@@ -965,7 +970,7 @@ fn check(
     theirs: &Side,
     bounds: &Bounds,
 ) -> Result<Verdict, SubgridError> {
-    let (part, joined, left) = measured(graft, ours, theirs);
+    let (part, joined, (left_triangles, left)) = measured(graft, ours, theirs);
     // The shape is judged while the distances are measured on the other core: a result that
     // fails on shape wastes the measurement, but most results pass. The copied triangles are the
     // input's own, so no sample of theirs lies off either surface: only the kept triangles and
@@ -973,7 +978,34 @@ fn check(
     // against the result.
     let (shape, far) = rayon::join(
         || shape_verdict(&part, bounds),
-        || far_apart((&joined, &left, &part), bounds, bounds.max_distance),
+        || match bounds.nearest {
+            Some(nearest) => {
+                let (from_input, left_out) = rayon::join(
+                    || {
+                        far_points(
+                            bounds.backend,
+                            Against::Input(bounds.input),
+                            &joined,
+                            bounds.max_distance,
+                        )
+                    },
+                    || {
+                        far_left_out(
+                            bounds.backend,
+                            graft,
+                            (ours, theirs.mesh),
+                            (&left_triangles, &left, &part),
+                            nearest,
+                            bounds.max_distance,
+                        )
+                    },
+                );
+                let mut found = from_input?;
+                found.extend(left_out?);
+                Ok(found)
+            }
+            None => far_apart((&joined, &left, &part), bounds, bounds.max_distance),
+        },
     );
     if let Some(verdict) = shape {
         return Ok(verdict);

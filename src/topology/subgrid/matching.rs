@@ -202,7 +202,7 @@ impl Against<'_> {
 
 /// The unsigned distance from each point to the surface in `bvh`, infinite beyond `reach` (mean
 /// edge lengths).
-fn distances(
+pub(super) fn distances(
     backend: &Backend,
     bvh: &Bvh,
     points: &[Vec3],
@@ -239,6 +239,22 @@ pub(super) fn far_components(
 ) -> Result<Vec<Vec<Vec3>>, SubgridError> {
     let reach = max_distance / against.bvh().mean_edge_length();
     let distance = against.distances(backend, &mesh.positions, reach)?;
+    far_given(mesh, (labels, count), max_distance, &distance, |open| {
+        against.distances(backend, open, reach)
+    })
+}
+
+/// [`far_components`] from the distances `distance` of `mesh`'s vertices (infinite beyond
+/// `max_distance`), with `measure` giving those of the samples the vertices leave open (only
+/// whether each is infinite is read). A vertex distance may exceed the true one, never fall
+/// short of it: a sample it no longer vouches for is measured instead.
+pub(super) fn far_given(
+    mesh: &IndexedMesh,
+    (labels, count): (&[u32], usize),
+    max_distance: f32,
+    distance: &[f32],
+    measure: impl FnOnce(&[Vec3]) -> Result<Vec<f32>, SubgridError>,
+) -> Result<Vec<Vec<Vec3>>, SubgridError> {
     let mut far: Vec<Vec<Vec3>> = vec![Vec::new(); count];
     let mut mark = |label: Option<&u32>, p: Vec3| {
         if let Some(f) = label.and_then(|&k| far.get_mut(k as usize)) {
@@ -250,8 +266,7 @@ pub(super) fn far_components(
             mark(labels.get(v), mesh.positions[v]);
         }
     }
-    // A margin for rounding, so a bound never admits a sample the query would reject.
-    let bounded = max_distance * (1.0 - 1e-4);
+    let bounded = within_bound(max_distance);
     let within = |p: Vec3, corners: &[u32]| {
         corners
             .iter()
@@ -274,13 +289,71 @@ pub(super) fn far_components(
     if open.is_empty() {
         return Ok(far);
     }
-    let found = against.distances(backend, &open, reach)?;
+    let found = measure(&open)?;
     for ((d, owner), &p) in found.iter().zip(&owners).zip(&open) {
         if d.is_infinite() {
             mark(Some(owner), p);
         }
     }
     Ok(far)
+}
+
+/// The distance up to which a measured distance vouches for a point within `max_distance`: a
+/// margin for rounding, so a bound never admits a sample the query would reject.
+pub(super) fn within_bound(max_distance: f32) -> f32 {
+    max_distance * (1.0 - 1e-4)
+}
+
+/// The tracked surface the input was measured against in the sub-grid match's bound check, kept
+/// for the graft's checks (see `left_out`): its tree, the tracked mesh's index of each of its
+/// triangles, and for each vertex of the input the tracked triangle nearest to it (by that index)
+/// and its distance, where one lies within the distance bound.
+pub(super) struct TrackedNearest {
+    pub bvh: Bvh,
+    pub triangles: Vec<u32>,
+    pub nearest: Vec<Option<(u32, f32)>>,
+}
+
+/// The input's samples farther than `max_distance` from `staying` (the tracked triangles
+/// `stays`, as a mesh of their own), by component of the input (`labels`, `count`), and the
+/// tracked triangle nearest each input vertex: [`far_components`] against `staying`, which
+/// keeps what it measured at the vertices.
+pub(super) fn far_from_tracked(
+    backend: &Backend,
+    (staying, stays): (&IndexedMesh, &[u32]),
+    input: &IndexedMesh,
+    (labels, count): (&[u32], usize),
+    max_distance: f32,
+) -> Result<(Vec<Vec<Vec3>>, TrackedNearest), SubgridError> {
+    let bvh = Bvh::build_unsigned(staying)?;
+    let reach = max_distance / bvh.mean_edge_length();
+    let hits = if input.positions.is_empty() {
+        Vec::new()
+    } else {
+        closest_points(backend, &bvh, &input.positions, reach)?
+    };
+    let nearest: Vec<Option<(u32, f32)>> = hits
+        .iter()
+        .map(|hit| {
+            hit.hit_triangle()
+                .map(|t| (stays[t as usize], hit.distance.abs()))
+        })
+        .collect();
+    let distance: Vec<f32> = nearest
+        .iter()
+        .map(|n| n.map_or(f32::INFINITY, |(_, d)| d))
+        .collect();
+    let far = far_given(input, (labels, count), max_distance, &distance, |open| {
+        distances(backend, &bvh, open, reach)
+    })?;
+    Ok((
+        far,
+        TrackedNearest {
+            bvh,
+            triangles: stays.to_vec(),
+            nearest,
+        },
+    ))
 }
 
 #[cfg(test)]

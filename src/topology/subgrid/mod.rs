@@ -33,6 +33,7 @@
 
 mod decide;
 mod graft;
+mod left_out;
 mod matching;
 mod rebuild;
 mod seeds;
