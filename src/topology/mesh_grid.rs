@@ -212,6 +212,13 @@ impl<'a> MeshGrid<'a> {
             .get_or_init(|| Tables::new(self.mesh, self.half, &self.lattice, &self.crossings))
     }
 
+    /// Builds the tables now if they are not built yet. Their first use from inside a parallel
+    /// loop would build them on that loop's thread while its others wait for them, so the
+    /// building's own parallel parts would run on one core: a loop over faces calls this first.
+    pub fn build_tables(&self) {
+        self.tables();
+    }
+
     /// The mesh's edges.
     pub fn edges(&self) -> &EdgeTable {
         &self.tables().edges

@@ -74,6 +74,9 @@ impl<'g, 'm> Checks<'g, 'm> {
         faces.retain(|f| !self.faces.contains_key(f));
         faces.par_sort_unstable();
         faces.dedup();
+        if !faces.is_empty() {
+            grid.build_tables();
+        }
         let tested: Vec<Option<Vec<Arc>>> = faces
             .par_iter()
             .map(|face| face_arcs(grid, face).filter(|arcs| pairs_follow_rule(field, face, arcs)))
