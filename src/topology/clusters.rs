@@ -60,6 +60,10 @@ pub(crate) fn touching<'a>(
 ) -> Vec<Vec<u32>> {
     let mut out: Vec<Vec<u32>> = vec![Vec::new(); count];
     for (t, tri) in triangles.iter().enumerate() {
+        // Most triangles of a surface touch no cluster at all.
+        if tri.iter().all(|&v| of(v).is_empty()) {
+            continue;
+        }
         let mut touched: Vec<u32> = tri.iter().flat_map(|&v| of(v).iter().copied()).collect();
         touched.sort_unstable();
         touched.dedup();

@@ -68,18 +68,26 @@ pub(super) fn seeds(
     shape_only: bool,
 ) -> Result<Seeds, SubgridError> {
     let mut far_cells: Vec<Cell> = far.iter().map(|&p| cell(frame, p)).collect();
-    far_cells.extend(bridges(frame, ours, input));
-    let mut selected = dilate(&far_cells, 1);
     if shape_only {
+        far_cells.extend(bridges(frame, ours, input));
+        let selected = dilate(&far_cells, 1);
         return Ok(Seeds {
             all: selected.clone(),
             selected,
         });
     }
-    let (our_counts, their_counts) = rayon::join(
-        || crossing_counts(backend, frame, ours),
-        || crossing_counts(backend, frame, input),
+    // The bridges and both surfaces' crossings are independent: they are found side by side.
+    let (bridged, (our_counts, their_counts)) = rayon::join(
+        || bridges(frame, ours, input),
+        || {
+            rayon::join(
+                || crossing_counts(backend, frame, ours),
+                || crossing_counts(backend, frame, input),
+            )
+        },
     );
+    far_cells.extend(bridged);
+    let mut selected = dilate(&far_cells, 1);
     let (our_counts, their_counts) = (our_counts?, their_counts?);
     let differs = |n: u32, m: u32| n != m && n.max(m) >= 2;
     // A sheet both surfaces have, crossing the next parallel edge in one of them, is no difference.
@@ -195,18 +203,26 @@ fn euler_changes(
     let holders = holders(grown);
     let none: Vec<u32> = Vec::new();
     let clusters_at = |p: Vec3| holders.get(&cell(frame, p)).unwrap_or(&none);
-    let removed = touching(&ours.triangles, grown.len(), |v| {
-        clusters_at(ours.positions[v as usize])
-    });
-    let mut copied: Vec<Vec<u32>> = vec![Vec::new(); grown.len()];
-    for (t, tri) in input.triangles.iter().enumerate() {
-        let [a, b, c] = tri.map(|v| clusters_at(input.positions[v as usize]));
-        for &k in a.iter().filter(|k| b.contains(k) && c.contains(k)) {
-            copied[k as usize].push(t as u32);
-        }
-    }
+    // Each side is gathered on its own core, and the clusters' characteristics in parallel.
+    let (removed, copied) = rayon::join(
+        || {
+            touching(&ours.triangles, grown.len(), |v| {
+                clusters_at(ours.positions[v as usize])
+            })
+        },
+        || {
+            let mut copied: Vec<Vec<u32>> = vec![Vec::new(); grown.len()];
+            for (t, tri) in input.triangles.iter().enumerate() {
+                let [a, b, c] = tri.map(|v| clusters_at(input.positions[v as usize]));
+                for &k in a.iter().filter(|k| b.contains(k) && c.contains(k)) {
+                    copied[k as usize].push(t as u32);
+                }
+            }
+            copied
+        },
+    );
     removed
-        .iter()
+        .par_iter()
         .zip(&copied)
         .map(|(r, c)| euler(input, c) - euler(ours, r))
         .collect()
