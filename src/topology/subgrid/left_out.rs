@@ -87,6 +87,19 @@ fn tree<'t>(slot: &'t mut (&IndexedMesh, Option<Bvh>)) -> Result<&'t Bvh, Subgri
     Ok(slot.1.as_ref().expect("the tree was just built"))
 }
 
+/// The distances from `points[i]`, for each `i` of `which`, to the surface in `bvh`, infinite
+/// beyond `max_distance` (world units).
+fn distances_at(
+    backend: &Backend,
+    bvh: &Bvh,
+    points: &[Vec3],
+    which: &[usize],
+    max_distance: f32,
+) -> Result<Vec<f32>, SubgridError> {
+    let asked: Vec<Vec3> = which.iter().map(|&i| points[i]).collect();
+    distances(backend, bvh, &asked, max_distance / bvh.mean_edge_length())
+}
+
 impl Trees<'_> {
     /// A distance from each point to the result: within the bound from a kept tracked triangle
     /// or from the new triangles, else the exact one from the whole result (infinite beyond
@@ -116,14 +129,7 @@ impl Trees<'_> {
             });
         }
         if !rest.is_empty() && !self.fresh.0.triangles.is_empty() {
-            let fresh = tree(&mut self.fresh)?;
-            let asked: Vec<Vec3> = rest.iter().map(|&i| points[i]).collect();
-            let found = distances(
-                backend,
-                fresh,
-                &asked,
-                max_distance / fresh.mean_edge_length(),
-            )?;
+            let found = distances_at(backend, tree(&mut self.fresh)?, points, &rest, max_distance)?;
             let mut still = Vec::new();
             for (&i, d) in rest.iter().zip(found) {
                 if d <= bounded {
@@ -135,14 +141,7 @@ impl Trees<'_> {
             rest = still;
         }
         if !rest.is_empty() {
-            let whole = tree(&mut self.whole)?;
-            let asked: Vec<Vec3> = rest.iter().map(|&i| points[i]).collect();
-            let found = distances(
-                backend,
-                whole,
-                &asked,
-                max_distance / whole.mean_edge_length(),
-            )?;
+            let found = distances_at(backend, tree(&mut self.whole)?, points, &rest, max_distance)?;
             for (&i, d) in rest.iter().zip(found) {
                 out[i] = d;
             }

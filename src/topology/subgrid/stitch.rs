@@ -31,11 +31,16 @@ pub(super) fn least_cost_steps(
     let band = (n > 0 && m <= BAND * n).then_some(BAND);
     let (_, banded) = fill((n, m), (&down, &across), f32::INFINITY, band);
     let (from_down, _) = fill((n, m), (&down, &across), banded, None);
-    let width = m + 1;
+    walk_back((n, m), &from_down)
+}
+
+/// The steps of the path that ends at corner `(n, m)` and enters each cell as `from_down` says,
+/// in order from `(0, 0)`.
+fn walk_back((n, m): (usize, usize), from_down: &[bool]) -> Vec<bool> {
     let (mut i, mut j) = (n, m);
     let mut steps = Vec::with_capacity(n + m);
     while i > 0 || j > 0 {
-        let step = from_down[i * width + j];
+        let step = from_down[i * (m + 1) + j];
         if step {
             i -= 1;
         } else {
@@ -121,18 +126,7 @@ mod tests {
         across: impl Fn(usize, usize) -> f32,
     ) -> Vec<bool> {
         let (from_down, _) = fill((n, m), (&down, &across), f32::INFINITY, None);
-        let (mut i, mut j, mut steps) = (n, m, Vec::new());
-        while i > 0 || j > 0 {
-            let step = from_down[i * (m + 1) + j];
-            if step {
-                i -= 1;
-            } else {
-                j -= 1;
-            }
-            steps.push(step);
-        }
-        steps.reverse();
-        steps
+        walk_back((n, m), &from_down)
     }
 
     /// A deterministic pseudo-random cost in `levels` (many ties, zero steps, fold-sized jumps).
