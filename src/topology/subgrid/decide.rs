@@ -4,6 +4,7 @@
 
 use glam::Vec3;
 
+use super::earlier::all_within;
 use super::graft::{self, Bounds, Graft, Side};
 use super::matching::{Against, TrackedNearest, far_components, far_from_tracked};
 use super::{Fidelity, SMALL_CELLS, SubgridCounts, SubgridError, Surfaces};
@@ -20,6 +21,9 @@ pub(super) struct Plan {
     /// Per input component: the tracked components its copy or graft replaces.
     pub replaces: Vec<Vec<usize>>,
     pub counts: SubgridCounts,
+    /// What the bound check measured between the input and the staying tracked triangles, where
+    /// it measured exactly (see `earlier`).
+    pub nearest: Option<TrackedNearest>,
 }
 
 /// Decides for every component of `s` matched as `matched` (the input component each tracked one
@@ -66,7 +70,29 @@ pub(super) fn decide(
                 })
                 .flat_map(|c| our_triangles[c].iter().copied())
                 .collect();
-            let staying = graft::submesh(current, &stays);
+            let exact = || -> Result<(Vec<Vec<Vec3>>, Option<TrackedNearest>), SubgridError> {
+                let staying = graft::submesh(current, &stays);
+                if staying.triangles.is_empty() {
+                    let far = theirs
+                        .iter()
+                        .map(|c| {
+                            c.vertices
+                                .iter()
+                                .map(|&v| target.positions[v as usize])
+                                .collect()
+                        })
+                        .collect();
+                    return Ok((far, None));
+                }
+                let (far, nearest) = far_from_tracked(
+                    backend,
+                    (&staying, &stays),
+                    target,
+                    (target_labels, theirs.len()),
+                    max_distance,
+                )?;
+                Ok((far, Some(nearest)))
+            };
             // The two directions are independent: each measures on its own core.
             let (our_far, their_far) = rayon::join(
                 || {
@@ -79,30 +105,50 @@ pub(super) fn decide(
                         max_distance,
                     )
                 },
-                || -> Result<(Vec<Vec<Vec3>>, Option<TrackedNearest>), SubgridError> {
-                    if staying.triangles.is_empty() {
-                        let far = theirs
-                            .iter()
-                            .map(|c| {
-                                c.vertices
-                                    .iter()
-                                    .map(|&v| target.positions[v as usize])
-                                    .collect()
-                            })
-                            .collect();
-                        return Ok((far, None));
+                || -> Result<Option<_>, SubgridError> {
+                    match s.earlier {
+                        Some(earlier)
+                            if !stays.is_empty()
+                                && all_within(
+                                    backend,
+                                    earlier,
+                                    (current, &stays),
+                                    target,
+                                    max_distance,
+                                )? =>
+                        {
+                            Ok(None)
+                        }
+                        _ => exact().map(Some),
                     }
-                    let (far, nearest) = far_from_tracked(
-                        backend,
-                        (&staying, &stays),
-                        target,
-                        (target_labels, theirs.len()),
-                        max_distance,
-                    )?;
-                    Ok((far, Some(nearest)))
                 },
             );
-            (our_far?, their_far?)
+            let our_far = our_far?;
+            let their_far = match their_far? {
+                Some(measured) => measured,
+                // Vouched for: no input sample is far. A group that is not faithful even so is
+                // grafted, and a graft's check needs the exact measurement.
+                None => {
+                    let unfaithful =
+                        members
+                            .iter()
+                            .zip(&largest)
+                            .enumerate()
+                            .any(|(k, (group, l))| {
+                                l.is_some_and(|l| {
+                                    ours[l].euler != theirs[k].euler
+                                        || !our_far[l].is_empty()
+                                        || group.iter().any(|&c| c != l && ours[c].diagonal > small)
+                                })
+                            });
+                    if unfaithful {
+                        exact()?
+                    } else {
+                        (vec![Vec::new(); theirs.len()], None)
+                    }
+                }
+            };
+            (our_far, their_far)
         }
         _ => (
             vec![Vec::new(); ours.len()],
@@ -200,5 +246,6 @@ pub(super) fn decide(
         grafts,
         replaces,
         counts,
+        nearest,
     })
 }

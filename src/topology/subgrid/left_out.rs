@@ -64,7 +64,7 @@ pub(super) fn far_left_out(
         distance[k] = d;
     }
     let labels = vec![0; left.positions.len()];
-    let far = far_given(left, (&labels, 1), max_distance, &distance, |samples| {
+    let far = far_given(left, (&labels, 1), max_distance, &distance, |samples, _| {
         trees.measure(backend, samples, max_distance)
     })?;
     Ok(far.into_iter().flatten().collect())

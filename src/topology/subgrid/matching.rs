@@ -239,21 +239,21 @@ pub(super) fn far_components(
 ) -> Result<Vec<Vec<Vec3>>, SubgridError> {
     let reach = max_distance / against.bvh().mean_edge_length();
     let distance = against.distances(backend, &mesh.positions, reach)?;
-    far_given(mesh, (labels, count), max_distance, &distance, |open| {
+    far_given(mesh, (labels, count), max_distance, &distance, |open, _| {
         against.distances(backend, open, reach)
     })
 }
 
 /// [`far_components`] from the distances `distance` of `mesh`'s vertices (infinite beyond
-/// `max_distance`), with `measure` giving those of the samples the vertices leave open (only
-/// whether each is infinite is read). A vertex distance may exceed the true one, never fall
+/// `max_distance`), with `measure` giving those of the samples the vertices leave open, given
+/// with the triangle of `mesh` each lies on (only whether each distance is infinite is read). A vertex distance may exceed the true one, never fall
 /// short of it: a sample it no longer vouches for is measured instead.
 pub(super) fn far_given(
     mesh: &IndexedMesh,
     (labels, count): (&[u32], usize),
     max_distance: f32,
     distance: &[f32],
-    measure: impl FnOnce(&[Vec3]) -> Result<Vec<f32>, SubgridError>,
+    measure: impl FnOnce(&[Vec3], &[u32]) -> Result<Vec<f32>, SubgridError>,
 ) -> Result<Vec<Vec<Vec3>>, SubgridError> {
     let mut far: Vec<Vec<Vec3>> = vec![Vec::new(); count];
     let mut mark = |label: Option<&u32>, p: Vec3| {
@@ -272,8 +272,8 @@ pub(super) fn far_given(
             .iter()
             .any(|&v| distance[v as usize] + (p - mesh.positions[v as usize]).length() <= bounded)
     };
-    let (mut open, mut owners) = (Vec::new(), Vec::new());
-    for tri in &mesh.triangles {
+    let (mut open, mut owners, mut on) = (Vec::new(), Vec::new(), Vec::new());
+    for (t, tri) in mesh.triangles.iter().enumerate() {
         let p = tri.map(|v| mesh.positions[v as usize]);
         let centroid = (p[0] + p[1] + p[2]) / 3.0;
         let midpoints = (0..3)
@@ -283,13 +283,14 @@ pub(super) fn far_given(
             if !within(s, tri) {
                 open.push(s);
                 owners.push(labels.get(tri[0] as usize).copied().unwrap_or(u32::MAX));
+                on.push(t as u32);
             }
         }
     }
     if open.is_empty() {
         return Ok(far);
     }
-    let found = measure(&open)?;
+    let found = measure(&open, &on)?;
     for ((d, owner), &p) in found.iter().zip(&owners).zip(&open) {
         if d.is_infinite() {
             mark(Some(owner), p);
@@ -343,9 +344,13 @@ pub(super) fn far_from_tracked(
         .iter()
         .map(|n| n.map_or(f32::INFINITY, |(_, d)| d))
         .collect();
-    let far = far_given(input, (labels, count), max_distance, &distance, |open| {
-        distances(backend, &bvh, open, reach)
-    })?;
+    let far = far_given(
+        input,
+        (labels, count),
+        max_distance,
+        &distance,
+        |open, _| distances(backend, &bvh, open, reach),
+    )?;
     Ok((
         far,
         TrackedNearest {

@@ -32,6 +32,7 @@
 //! channel stays constant, and colours stay near where they were.
 
 mod decide;
+mod earlier;
 mod graft;
 mod left_out;
 mod matching;
@@ -44,6 +45,7 @@ use crate::grid::RasterError;
 use crate::improve::{ImproveError, ImproveParams, improve};
 use crate::mesh::{IndexedMesh, Mesh, MeshError};
 use crate::project::{Bvh, ProjectError};
+use earlier::Earlier;
 use matching::{Components, InputDistances};
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
@@ -121,6 +123,8 @@ struct Surfaces<'a> {
     /// (world units).
     spacing: f32,
     max_distance: f32,
+    /// What an earlier call in this frame measured between the input and the tracked surface.
+    earlier: Option<&'a Earlier>,
 }
 
 /// Makes `mesh`'s components agree with `target`'s where the grid of spacing `spacing` cannot
@@ -143,16 +147,20 @@ pub fn match_below_grid(
         (target, &input),
         (spacing, max_distance),
         fidelity,
+        &mut None,
     )
 }
 
-/// [`match_below_grid`] with the distances to the input measured so far in this frame.
+/// [`match_below_grid`] with the distances to the input measured so far in this frame, and what
+/// the last call that measured the input against the tracked surface exactly found (`earlier`,
+/// replaced by this call's where it measures exactly).
 fn match_against(
     backend: &Backend,
     mesh: &mut Mesh,
     (target, input): (&IndexedMesh, &InputDistances),
     (spacing, max_distance): (f32, f32),
     fidelity: Fidelity,
+    earlier: &mut Option<Earlier>,
 ) -> Result<SubgridCounts, SubgridError> {
     let current = mesh.to_indexed();
     let (ours, theirs) = rayon::join(|| Components::of(&current), || Components::of(target));
@@ -165,6 +173,7 @@ fn match_against(
         input,
         spacing,
         max_distance,
+        earlier: earlier.as_ref(),
     };
     let matched = matching::match_components(
         backend,
@@ -174,9 +183,15 @@ fn match_against(
         input.bvh,
         spacing,
     )?;
-    let plan = decide::decide(&surfaces, &matched, fidelity)?;
+    let mut plan = decide::decide(&surfaces, &matched, fidelity)?;
     if plan.counts.changed() {
         mesh.replace(rebuild::replacement(&surfaces, &plan, mesh.next_id())?)?;
+    }
+    if let Some(nearest) = plan.nearest.take() {
+        *earlier = Some(Earlier {
+            tracked: current,
+            nearest,
+        });
     }
     Ok(plan.counts)
 }
@@ -219,14 +234,15 @@ pub fn match_and_improve(
     let input = InputDistances::new(target.1);
     let target = (target.0, &input);
     let bounds = (spacing, max_distance);
-    let mut counts = match_against(backend, mesh, target, bounds, fidelity)?;
+    let mut earlier = None;
+    let mut counts = match_against(backend, mesh, target, bounds, fidelity, &mut earlier)?;
     improve_timed(mesh)?;
     let mut grafted = counts.grafted;
     for round in 0..=RECHECKS {
         if grafted == 0 {
             break;
         }
-        let recheck = match_against(backend, mesh, target, bounds, fidelity)?;
+        let recheck = match_against(backend, mesh, target, bounds, fidelity, &mut earlier)?;
         grafted = recheck.grafted;
         if !recheck.changed() {
             break;
