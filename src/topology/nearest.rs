@@ -64,9 +64,11 @@ impl Survivors {
             }
         };
         for ring in 0..=reach {
-            // Every point of ring r + 1 or beyond is at least r cells away.
+            // Every point of ring r + 1 or beyond is at least r cells away; more exactly, it lies
+            // outside the cube of the rings searched, whose nearest face is usually farther.
             if let Some((d, _)) = best
-                && d.sqrt() <= ring.saturating_sub(1) as f32 * self.cell
+                && (d.sqrt() <= ring.saturating_sub(1) as f32 * self.cell
+                    || d.sqrt() < self.beyond(p, centre, ring - 1))
             {
                 break;
             }
@@ -83,6 +85,17 @@ impl Survivors {
             }
         }
         best.map(|(_, v)| v)
+    }
+
+    /// A distance that every point outside the cube of buckets within `searched` rings of
+    /// `centre` (the bucket of `p`) exceeds: the distance from `p` to the cube's nearest face,
+    /// less a margin for the rounding of `p` and of the points' buckets.
+    fn beyond(&self, p: Vec3, centre: IVec3, searched: i32) -> f32 {
+        let low = (centre - searched).as_vec3() * self.cell;
+        let high = (centre + searched + 1).as_vec3() * self.cell;
+        let face = (p - low).min(high - p).min_element();
+        let scale = centre.abs().max_element() as f32 + searched as f32 + 2.0;
+        face - 4.0 * f32::EPSILON * scale * self.cell
     }
 
     /// [`Survivors::nearest`] of each of `points`, in order, queried in parallel.
@@ -144,5 +157,44 @@ mod tests {
             }
         }
         assert_eq!(Survivors::new([], 1.0).nearest(Vec3::ZERO), None);
+    }
+
+    /// Points on a lattice that shares the buckets' planes, and queries on bucket faces and at
+    /// points equidistant from several of them (ties), far from the origin too: the search may
+    /// stop at the searched cube's nearest face only where no point beyond it could be as near.
+    #[test]
+    fn ties_and_bucket_faces_give_the_brute_force_nearest() {
+        for (origin, cell) in [(Vec3::ZERO, 1.0), (Vec3::new(1000.0, -500.0, 250.0), 0.5)] {
+            let mut points = Vec::new();
+            for i in 0..6u32 {
+                for j in 0..6u32 {
+                    for k in 0..6u32 {
+                        let q = Vec3::new(i as f32, j as f32, k as f32) * 0.75 * cell;
+                        points.push((
+                            ((i * 7 + j * 3 + k * 5) % 216) * 1000 + i * 36 + j * 6 + k,
+                            origin + q,
+                        ));
+                    }
+                }
+            }
+            let survivors = Survivors::new(points.clone(), cell);
+            for a in 0..12 {
+                for b in 0..12 {
+                    let p = origin
+                        + Vec3::new(a as f32 * 0.375, b as f32 * 0.5, (a + b) as f32 * 0.125)
+                            * cell;
+                    let brute = points
+                        .iter()
+                        .min_by(|x, y| {
+                            (x.1 - p)
+                                .length_squared()
+                                .total_cmp(&(y.1 - p).length_squared())
+                                .then(x.0.cmp(&y.0))
+                        })
+                        .map(|&(v, _)| v);
+                    assert_eq!(survivors.nearest(p), brute, "query {p}, buckets of {cell}");
+                }
+            }
+        }
     }
 }

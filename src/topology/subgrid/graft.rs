@@ -420,31 +420,34 @@ pub(super) fn submesh(mesh: &IndexedMesh, triangles: &[u32]) -> IndexedMesh {
     IndexedMesh::new(positions, triangles)
 }
 
-/// The edge-connected pieces of the triangles of `side` selected by `mask`, as indices into
-/// `side.triangles`, in order of their first triangle.
-fn pieces(side: &Side, mask: &[bool]) -> Vec<Vec<usize>> {
-    let mut piece = vec![NONE; mask.len()];
+/// The edge-connected pieces of fewer than [`MIN_PIECE`] triangles of `side` selected by `mask`,
+/// as indices into `side.triangles`. The large pieces (the body of the surface) are walked but
+/// not gathered: clean-up moves only the small ones, in any order, since they are disjoint.
+fn small_pieces(side: &Side, mask: &[bool]) -> Vec<Vec<usize>> {
+    let mut seen = vec![false; mask.len()];
     let mut out: Vec<Vec<usize>> = Vec::new();
-    for start in (0..mask.len()).filter(|&i| mask[i]) {
-        if piece[start] != NONE {
+    let mut members = Vec::new();
+    for start in 0..mask.len() {
+        if !mask[start] || seen[start] {
             continue;
         }
-        let label = out.len() as u32;
-        piece[start] = label;
-        let mut members = vec![start];
+        seen[start] = true;
+        members.clear();
+        members.push(start);
         let mut next = 0;
         while next < members.len() {
             let i = members[next];
             next += 1;
             for &j in &side.across[i] {
-                if j != NONE && mask[j as usize] && piece[j as usize] == NONE {
-                    piece[j as usize] = label;
+                if j != NONE && mask[j as usize] && !seen[j as usize] {
+                    seen[j as usize] = true;
                     members.push(j as usize);
                 }
             }
         }
-        members.sort_unstable();
-        out.push(members);
+        if members.len() < MIN_PIECE {
+            out.push(members.clone());
+        }
     }
     out
 }
@@ -462,17 +465,15 @@ fn free_half_edges(side: &Side, mask: &[bool]) -> Vec<(u32, u32)> {
         .collect()
 }
 
-/// Boundary vertices with more than one free half-edge leaving them.
-fn pinched(side: &Side, mask: &[bool]) -> FxHashSet<u32> {
-    let mut leaving: FxHashMap<u32, usize> = FxHashMap::default();
+/// Per vertex of `side`'s mesh, whether it is a boundary vertex with more than one free
+/// half-edge leaving it.
+fn pinched(side: &Side, mask: &[bool]) -> Vec<bool> {
+    let mut leaving = vec![0u8; side.mesh.positions.len()];
     for (a, _) in free_half_edges(side, mask) {
-        *leaving.entry(a).or_insert(0) += 1;
+        let n = &mut leaving[a as usize];
+        *n = n.saturating_add(1);
     }
-    leaving
-        .into_iter()
-        .filter(|&(_, n)| n > 1)
-        .map(|(v, _)| v)
-        .collect()
+    leaving.into_iter().map(|n| n > 1).collect()
 }
 
 /// Which part of its side a mask selects: the tracked triangles kept, or the input's copied.
@@ -500,10 +501,7 @@ fn clean(side: &Side, mask: &mut [bool], part: Part) -> bool {
     // The triangles a round may move across the mask: the kept ones, or those not copied.
     let movable = |m: bool| (part == Part::Kept) == m;
     let selected: Vec<bool> = mask.iter().map(|&m| movable(m)).collect();
-    for piece in pieces(side, &selected)
-        .into_iter()
-        .filter(|p| p.len() < MIN_PIECE)
-    {
+    for piece in small_pieces(side, &selected) {
         for i in piece {
             mask[i] = !mask[i];
         }
@@ -513,7 +511,7 @@ fn clean(side: &Side, mask: &mut [bool], part: Part) -> bool {
     for (i, m) in mask.iter_mut().enumerate() {
         let touches = side.mesh.triangles[side.triangles[i] as usize]
             .iter()
-            .any(|v| at.contains(v));
+            .any(|&v| at[v as usize]);
         if movable(*m) && touches {
             *m = !*m;
             changed = true;
