@@ -6,7 +6,7 @@ use glam::Vec3;
 
 use super::earlier::all_within;
 use super::graft::{self, Bounds, Graft, Side};
-use super::matching::{Against, TrackedNearest, far_components, far_from_tracked};
+use super::matching::{Against, Component, TrackedNearest, far_components, far_from_tracked};
 use super::{Fidelity, SMALL_CELLS, SubgridCounts, SubgridError, Surfaces};
 
 /// What the sub-grid match does to each component.
@@ -129,18 +129,9 @@ pub(super) fn decide(
                 // Vouched for: no input sample is far. A group that is not faithful even so is
                 // grafted, and a graft's check needs the exact measurement.
                 None => {
-                    let unfaithful =
-                        members
-                            .iter()
-                            .zip(&largest)
-                            .enumerate()
-                            .any(|(k, (group, l))| {
-                                l.is_some_and(|l| {
-                                    ours[l].euler != theirs[k].euler
-                                        || !our_far[l].is_empty()
-                                        || group.iter().any(|&c| c != l && ours[c].diagonal > small)
-                                })
-                            });
+                    let unfaithful = members.iter().zip(&largest).enumerate().any(|(k, (g, l))| {
+                        l.is_some_and(|l| !alike((ours, &theirs[k]), &our_far, small, (g, l)))
+                    });
                     if unfaithful {
                         exact()?
                     } else {
@@ -176,10 +167,8 @@ pub(super) fn decide(
         let others = group.iter().copied().filter(|&c| c != largest);
         let faithful = match fidelity {
             Fidelity::Input | Fidelity::InputWhole => {
-                ours[largest].euler == theirs[k].euler
-                    && our_far[largest].is_empty()
+                alike((ours, &theirs[k]), &our_far, small, (group, largest))
                     && their_far[k].is_empty()
-                    && others.clone().all(|c| ours[c].diagonal <= small)
             }
             Fidelity::Grid => {
                 ours[largest].euler == theirs[k].euler
@@ -248,4 +237,20 @@ pub(super) fn decide(
         counts,
         nearest,
     })
+}
+
+/// Whether the tracked components `group` (the largest `largest`) reproduce the input component
+/// `theirs` as `Fidelity::Input` asks, but for the input's own far samples: the same Euler
+/// characteristic, no far sample of the tracked side, and no other component larger than `small`.
+fn alike(
+    (ours, theirs): (&[Component], &Component),
+    our_far: &[Vec<Vec3>],
+    small: f32,
+    (group, largest): (&[usize], usize),
+) -> bool {
+    ours[largest].euler == theirs.euler
+        && our_far[largest].is_empty()
+        && group
+            .iter()
+            .all(|&c| c == largest || ours[c].diagonal <= small)
 }
