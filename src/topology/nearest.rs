@@ -127,6 +127,19 @@ fn shell(centre: IVec3, ring: i32) -> impl Iterator<Item = IVec3> {
 mod tests {
     use super::*;
 
+    /// The nearest of `points` to `p` by comparing every one, ties to the lower vertex index.
+    fn brute_nearest(points: &[(u32, Vec3)], p: Vec3) -> Option<u32> {
+        points
+            .iter()
+            .min_by(|a, b| {
+                (a.1 - p)
+                    .length_squared()
+                    .total_cmp(&(b.1 - p).length_squared())
+                    .then(a.0.cmp(&b.0))
+            })
+            .map(|&(v, _)| v)
+    }
+
     #[test]
     fn finds_the_brute_force_nearest() {
         let points: Vec<(u32, Vec3)> = (0..200u32)
@@ -144,15 +157,7 @@ mod tests {
             for k in 0..100 {
                 let k = k as f32;
                 let p = Vec3::new((k * 0.9).cos() * 12.0, k * 0.1 - 5.0, (k * 2.1).sin() * 3.0);
-                let brute = points
-                    .iter()
-                    .min_by(|a, b| {
-                        (a.1 - p)
-                            .length_squared()
-                            .total_cmp(&(b.1 - p).length_squared())
-                            .then(a.0.cmp(&b.0))
-                    })
-                    .map(|&(v, _)| v);
+                let brute = brute_nearest(&points, p);
                 assert_eq!(survivors.nearest(p), brute, "query {p}, buckets of {cell}");
             }
         }
@@ -183,15 +188,7 @@ mod tests {
                     let p = origin
                         + Vec3::new(a as f32 * 0.375, b as f32 * 0.5, (a + b) as f32 * 0.125)
                             * cell;
-                    let brute = points
-                        .iter()
-                        .min_by(|x, y| {
-                            (x.1 - p)
-                                .length_squared()
-                                .total_cmp(&(y.1 - p).length_squared())
-                                .then(x.0.cmp(&y.0))
-                        })
-                        .map(|&(v, _)| v);
+                    let brute = brute_nearest(&points, p);
                     assert_eq!(survivors.nearest(p), brute, "query {p}, buckets of {cell}");
                 }
             }

@@ -21,7 +21,7 @@
 //! a re-check right after a graft (most of the surface re-made) are measured exactly as before.
 
 use glam::Vec3;
-use rustc_hash::{FxHashMap, FxHashSet};
+use rustc_hash::FxHashMap;
 
 use super::SubgridError;
 use super::graft::submesh;
@@ -30,6 +30,7 @@ use crate::compute::Backend;
 use crate::geometry::point_triangle_distance;
 use crate::mesh::IndexedMesh;
 use crate::project::Bvh;
+use crate::topology::classify::dilate;
 
 /// The tracked surface an earlier call measured the input against, and what it measured.
 pub(super) struct Earlier {
@@ -76,8 +77,11 @@ pub(super) fn all_within(
     // The staying triangles near the points asked about, as a tree; a distance beyond the margin
     // vouches for nothing: it counts as far, and the caller measures.
     let measure = |points: &[Vec3]| -> Result<Vec<f32>, SubgridError> {
+        if points.is_empty() {
+            return Ok(Vec::new());
+        }
         let near = submesh(current, &around.near(current, points, max_distance));
-        if points.is_empty() || near.triangles.is_empty() {
+        if near.triangles.is_empty() {
             return Ok(vec![f32::INFINITY; points.len()]);
         }
         let tree = Bvh::build_unsigned(&near)?;
@@ -203,15 +207,9 @@ impl Incident {
     fn near(&self, mesh: &IndexedMesh, points: &[Vec3], max_distance: f32) -> Vec<u32> {
         let side = 2.0 * max_distance;
         let cell = |p: Vec3| (p / side).floor().as_ivec3().to_array();
-        let mut cells: FxHashSet<[i32; 3]> = FxHashSet::default();
-        for &p in points {
-            let c = cell(p);
-            for d in 0..27 {
-                cells.insert([c[0] + d % 3 - 1, c[1] + d / 3 % 3 - 1, c[2] + d / 9 - 1]);
-            }
-        }
+        let cells = dilate(&points.iter().map(|&p| cell(p)).collect::<Vec<_>>(), 1);
         let mut near: Vec<u32> = (0..mesh.positions.len())
-            .filter(|&v| cells.contains(&cell(mesh.positions[v])))
+            .filter(|&v| cells.binary_search(&cell(mesh.positions[v])).is_ok())
             .flat_map(|v| self.of(v as u32).iter().copied())
             .collect();
         near.sort_unstable();
@@ -222,7 +220,7 @@ impl Incident {
 
 #[cfg(test)]
 mod tests {
-    use super::super::matching::far_from_tracked;
+    use super::super::matching::{far_from_tracked, tracked_sphere_and_bumped_input};
     use super::*;
 
     /// `mesh` with its vertices and triangles in reverse order and each triangle's corners
@@ -273,12 +271,7 @@ mod tests {
     #[test]
     fn it_vouches_only_where_the_exact_check_finds_nothing_far() {
         let backend = Backend::Cpu;
-        let ours = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
-        let mut theirs = IndexedMesh::icosphere(Vec3::new(0.01, -0.02, 0.015), 1.0, 3);
-        for p in &mut theirs.positions {
-            let bump = (4.0 * p.y).sin() * (3.0 * p.z).cos();
-            *p *= 1.0 + 0.08 * bump.max(0.0);
-        }
+        let (ours, theirs) = tracked_sphere_and_bumped_input();
         // A cap of 7.5% of the sphere: within the share of vertices left open that is vouched for.
         const CAP: f32 = 0.85;
         let labels = vec![0; theirs.positions.len()];

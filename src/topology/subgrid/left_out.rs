@@ -153,7 +153,9 @@ impl Trees<'_> {
 #[cfg(test)]
 mod tests {
     use super::super::graft::submesh;
-    use super::super::matching::{Against, far_components, far_from_tracked};
+    use super::super::matching::{
+        Against, far_components, far_from_tracked, tracked_sphere_and_bumped_input,
+    };
     use super::*;
 
     /// On a tracked sphere and a bumped input, for kept, copied and left-out triangles on
@@ -162,12 +164,7 @@ mod tests {
     #[test]
     fn far_samples_are_those_of_a_tree_over_the_whole_result() {
         let backend = Backend::Cpu;
-        let ours = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
-        let mut theirs = IndexedMesh::icosphere(Vec3::new(0.01, -0.02, 0.015), 1.0, 3);
-        for p in &mut theirs.positions {
-            let bump = (4.0 * p.y).sin() * (3.0 * p.z).cos();
-            *p *= 1.0 + 0.08 * bump.max(0.0);
-        }
+        let (ours, theirs) = tracked_sphere_and_bumped_input();
         let centroid_x = |mesh: &IndexedMesh, t: &[u32; 3]| {
             t.iter().map(|&v| mesh.positions[v as usize].x).sum::<f32>() / 3.0
         };

@@ -361,6 +361,19 @@ pub(super) fn far_from_tracked(
     ))
 }
 
+/// A tracked unit sphere and an input sphere shifted a little and bumped outward by up to 8% of
+/// its radius over part of it: the two surfaces the bound checks' tests measure.
+#[cfg(test)]
+pub(super) fn tracked_sphere_and_bumped_input() -> (IndexedMesh, IndexedMesh) {
+    let ours = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
+    let mut theirs = IndexedMesh::icosphere(Vec3::new(0.01, -0.02, 0.015), 1.0, 3);
+    for p in &mut theirs.positions {
+        let bump = (4.0 * p.y).sin() * (3.0 * p.z).cos();
+        *p *= 1.0 + 0.08 * bump.max(0.0);
+    }
+    (ours, theirs)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
