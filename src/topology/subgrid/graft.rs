@@ -23,13 +23,8 @@
 //! 4. The result must be closed, manifold, one component with the input's Euler characteristic,
 //!    and within the distance bound of the input both ways.
 //!
-//! Where step 3 leaves a copied loop without a partner (the input crosses the region's rim and
-//! the tracked surface does not: a bump of the input poking out of the region) and the input
-//! beyond it is a small piece bounded by such loops only, that piece is copied too
-//! ([`closing_pieces`]), and the region stays as it is; if that result then fails step 4, the
-//! same region is tried without it. Where step 3 still leaves a loop without a partner (the two
-//! surfaces cross the region's rim differently there) or step 4 finds samples beyond the bound,
-//! the region grows around them;
+//! Where step 3 leaves a loop without a partner (the two surfaces cross the region's rim
+//! differently there) or step 4 finds samples beyond the bound, the region grows around them;
 //! where step 4 finds the result in pieces (the rim cut a bridge of the input), it grows where
 //! the smaller pieces come next to the largest; where step 4 finds another Euler
 //! characteristic, the clusters step 1 left out join the region, and if it is still found, the
@@ -189,24 +184,13 @@ pub(super) fn graft(
         seeds.selected
     };
     let mut memo = Memo::new(&frame, ours, theirs);
-    let mut cap = true;
-    let mut tries = 0;
-    while tries < GROWTHS {
-        tries += 1;
-        let trouble: Vec<[i32; 3]> = match attempt(&region, (ours, theirs), &mut memo, cap) {
+    for _ in 0..GROWTHS {
+        let trouble: Vec<[i32; 3]> = match attempt(&region, (ours, theirs), &mut memo) {
             Attempt::Hopeless => return Ok(None),
             Attempt::Unpaired(points) => cells(points),
-            Attempt::Joined(graft, closed) => {
+            Attempt::Joined(graft) => {
                 match check(&graft, ours.mesh, theirs, bounds)? {
                     Verdict::Meets => return Ok(Some(graft)),
-                    // A result whose loops were closed with the input beyond the rim that fails
-                    // is tried again on the same region without closing them, the region then
-                    // growing around them; that second try is not one of the growths.
-                    _ if closed => {
-                        cap = false;
-                        tries -= 1;
-                        continue;
-                    }
                     // The rim may cut through a selected difference: the region grows by one
                     // around all of them first, which keeps the graft local.
                     Verdict::Fails if !rimmed => {
@@ -248,7 +232,7 @@ pub(super) fn graft(
 }
 
 /// Most times step 3 or 4 may grow the region around where it failed and try again.
-const GROWTHS: usize = 32;
+const GROWTHS: usize = 24;
 
 /// Halvings of the distance bound below which a wrong topology is looked for (half, a quarter).
 const SUSPICIONS: usize = 2;
@@ -259,8 +243,7 @@ enum Attempt {
     Hopeless,
     /// These boundary loops (their points) found no partner on the other side.
     Unpaired(Vec<Vec3>),
-    /// A graft, and whether [`closing_pieces`] closed loops of it.
-    Joined(Graft, bool),
+    Joined(Graft),
 }
 
 /// A pair of rim loops (kept, copied), by their vertices.
@@ -302,12 +285,7 @@ impl Memo {
 }
 
 /// Steps 2 and 3 of the module comment for one region.
-fn attempt(
-    region: &[[i32; 3]],
-    (ours, theirs): (&Side, &Side),
-    memo: &mut Memo,
-    cap: bool,
-) -> Attempt {
+fn attempt(region: &[[i32; 3]], (ours, theirs): (&Side, &Side), memo: &mut Memo) -> Attempt {
     let inside = |side: &Side, cells: &[(u32, Cell)]| -> Vec<bool> {
         let mut at = vec![false; side.mesh.positions.len()];
         for &(v, c) in cells {
@@ -342,46 +320,21 @@ fn attempt(
     let (Some(our_loops), Some(their_loops)) = (our_loops, their_loops) else {
         return Attempt::Hopeless;
     };
-    let (mut copied, mut their_loops) = (copied, their_loops);
-    let mut pairing = pair_loops(
+    let (pairs, unpaired) = pair_loops(
         (ours.mesh, &our_loops),
         (theirs.mesh, &their_loops),
         &mut memo.gaps,
     );
-    // Copied loops without a partner are first closed with the input beyond them.
-    let mut closed = false;
-    if cap && pairing.theirs.contains(&false) {
-        let beyond = closing_pieces(theirs, &copied, &their_loops, &pairing.theirs);
-        let mut more = copied.clone();
-        for &i in &beyond {
-            more[i] = true;
-        }
-        if let Some(loops) = (!beyond.is_empty())
-            .then(|| boundary_loops(theirs, &more))
-            .flatten()
-        {
-            (copied, their_loops, closed) = (more, loops, true);
-            pairing = pair_loops(
-                (ours.mesh, &our_loops),
-                (theirs.mesh, &their_loops),
-                &mut memo.gaps,
-            );
-        }
-    }
-    if pairing.ours.contains(&false) || pairing.theirs.contains(&false) {
-        let mut points = unpaired_points(ours.mesh, &our_loops, &pairing.ours);
-        points.extend(unpaired_points(theirs.mesh, &their_loops, &pairing.theirs));
-        return Attempt::Unpaired(points);
+    if !unpaired.is_empty() {
+        return Attempt::Unpaired(unpaired);
     }
     let (our_normals, their_normals) =
         rayon::join(|| rim_normals(ours, &kept), || rim_normals(theirs, &copied));
-    let keys: Vec<LoopPair> = pairing
-        .pairs
+    let keys: Vec<LoopPair> = pairs
         .iter()
         .map(|&(a, c)| (our_loops[a].clone(), their_loops[c].clone()))
         .collect();
-    let fresh: Vec<(usize, usize)> = pairing
-        .pairs
+    let fresh: Vec<(usize, usize)> = pairs
         .iter()
         .zip(&keys)
         .filter(|(_, key)| !memo.strips.contains_key(*key))
@@ -420,14 +373,11 @@ fn attempt(
             .map(|(&t, _)| t)
             .collect()
     };
-    Attempt::Joined(
-        Graft {
-            kept: chosen(ours, &kept),
-            copied: chosen(theirs, &copied),
-            zip,
-        },
-        closed,
-    )
+    Attempt::Joined(Graft {
+        kept: chosen(ours, &kept),
+        copied: chosen(theirs, &copied),
+        zip,
+    })
 }
 
 /// Adds the cells around `trouble` to `region` (sorted, without repeats): their 26 neighbours,
@@ -607,13 +557,13 @@ fn boundary_loops(side: &Side, mask: &[bool]) -> Option<Vec<Vec<u32>>> {
 
 /// Pairs kept and copied loops that are each other's nearest (mean distance from each vertex of
 /// either to the nearest vertex of the other, among the few nearest by centroid). Returns the
-/// pairs, and per side whether each loop found a partner. `gaps` holds the gaps of pairs
+/// pairs and the points of every loop left without a partner. `gaps` holds the gaps of pairs
 /// measured before (keyed by the loops' vertices), and takes the new ones.
 fn pair_loops(
     (ours, our_loops): (&IndexedMesh, &[Vec<u32>]),
     (theirs, their_loops): (&IndexedMesh, &[Vec<u32>]),
     gaps: &mut FxHashMap<LoopPair, f32>,
-) -> Pairing {
+) -> (Vec<(usize, usize)>, Vec<Vec3>) {
     let points = |mesh: &IndexedMesh, loops: &[Vec<u32>]| -> Vec<Vec<Vec3>> {
         loops
             .iter()
@@ -705,91 +655,15 @@ fn pair_loops(
         paired_ours[i] = true;
         paired_theirs[j] = true;
     }
-    Pairing {
-        pairs,
-        ours: paired_ours,
-        theirs: paired_theirs,
-    }
-}
-
-/// Which rim loops [`pair_loops`] paired.
-struct Pairing {
-    /// The pairs (kept loop, copied loop).
-    pairs: Vec<(usize, usize)>,
-    /// Per kept loop, and per copied loop, whether it found a partner.
-    ours: Vec<bool>,
-    theirs: Vec<bool>,
-}
-
-/// The points of the loops of `mesh` that found no partner.
-fn unpaired_points(mesh: &IndexedMesh, loops: &[Vec<u32>], paired: &[bool]) -> Vec<Vec3> {
-    loops
+    let unpaired = a
         .iter()
-        .zip(paired)
+        .zip(&paired_ours)
+        .chain(c.iter().zip(&paired_theirs))
         .filter(|(_, paired)| !**paired)
-        .flat_map(|(l, _)| l.iter().map(|&v| mesh.positions[v as usize]))
-        .collect()
+        .flat_map(|(p, _)| p.iter().copied())
+        .collect();
+    (pairs, unpaired)
 }
-
-/// Step 3's remedy for copied loops without a partner that keeps the region as it is. Such a
-/// loop is where the input crosses the region's rim and the tracked surface does not: a bump or
-/// ripple of the input poking out of the region. Beyond the loop the input holds a piece bounded
-/// by that loop alone (or by several loops, all without a partner); where that piece is small,
-/// copying it too closes the loop with the input's own triangles, where growing the region
-/// around the loop would also re-sample the tracked surface in every cell it adds. (The other
-/// remedies measured on the dam break, leaving out a copied island whose loops lack a partner
-/// or keeping a tracked dip into the region, mostly end in results beyond the distance bound.)
-/// Returns the triangles (indices into `theirs.triangles`) of every piece of at most [`CAP`]
-/// triangles not `copied` whose loops among `loops` all lack a partner.
-fn closing_pieces(
-    theirs: &Side,
-    copied: &[bool],
-    loops: &[Vec<u32>],
-    paired: &[bool],
-) -> Vec<usize> {
-    let mut loop_of: FxHashMap<u32, usize> = FxHashMap::default();
-    for (i, l) in loops.iter().enumerate() {
-        for &v in l {
-            loop_of.insert(v, i);
-        }
-    }
-    let mut seen = copied.to_vec();
-    let mut out = Vec::new();
-    let mut members = Vec::new();
-    for start in 0..copied.len() {
-        if seen[start] {
-            continue;
-        }
-        seen[start] = true;
-        members.clear();
-        members.push(start);
-        let (mut bounded, mut touches) = (true, false);
-        let mut next = 0;
-        while next < members.len() {
-            let i = members[next];
-            next += 1;
-            for v in theirs.corners(i) {
-                if let Some(&l) = loop_of.get(&v) {
-                    touches = true;
-                    bounded &= !paired[l];
-                }
-            }
-            for &j in &theirs.across[i] {
-                if j != NONE && !seen[j as usize] {
-                    seen[j as usize] = true;
-                    members.push(j as usize);
-                }
-            }
-        }
-        if bounded && touches && members.len() <= CAP {
-            out.extend_from_slice(&members);
-        }
-    }
-    out
-}
-
-/// Most triangles of a piece [`closing_pieces`] moves.
-const CAP: usize = 1024;
 
 /// One side of a zip: a boundary loop and the normals of the triangles along it.
 struct Rim<'a> {
@@ -1140,66 +1014,4 @@ fn check(
     } else {
         Verdict::Far(far)
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A sphere whose copied triangles leave out a cap (bounded by one loop) and a small patch
-    /// on the equator (bounded by another): only pieces bounded by loops without a partner, and
-    /// small enough, are moved, whole.
-    #[test]
-    fn only_small_pieces_bounded_by_unpaired_loops_close() {
-        let sphere = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
-        let side = Side::new(&sphere, (0..sphere.triangles.len() as u32).collect());
-        let centroid = |i: usize| {
-            side.corners(i)
-                .iter()
-                .map(|&v| sphere.positions[v as usize])
-                .sum::<Vec3>()
-                / 3.0
-        };
-        let in_cap = |i: usize| centroid(i).z > 0.6;
-        let in_patch = |i: usize| centroid(i).distance(Vec3::X) < 0.3;
-        let copied: Vec<bool> = (0..side.triangles.len())
-            .map(|i| !in_cap(i) && !in_patch(i))
-            .collect();
-        let loops = boundary_loops(&side, &copied).expect("two simple loops");
-        assert_eq!(loops.len(), 2);
-        let at_cap = |l: &Vec<u32>| sphere.positions[l[0] as usize].z > 0.5;
-        let cap_loop = loops.iter().position(at_cap).expect("a loop round the cap");
-        let cap: Vec<usize> = (0..side.triangles.len()).filter(|&i| in_cap(i)).collect();
-        let patch: Vec<usize> = (0..side.triangles.len()).filter(|&i| in_patch(i)).collect();
-        assert!(!patch.is_empty() && cap.len() > patch.len() && cap.len() <= CAP);
-        let sorted = |mut v: Vec<usize>| {
-            v.sort_unstable();
-            v
-        };
-        let paired_but = |lonely: &[usize]| -> Vec<bool> {
-            (0..loops.len()).map(|l| !lonely.contains(&l)).collect()
-        };
-        let patch_loop = 1 - cap_loop;
-        // The patch's loop alone without a partner: the patch is copied, nothing else.
-        let flip = closing_pieces(&side, &copied, &loops, &paired_but(&[patch_loop]));
-        assert_eq!(sorted(flip), patch);
-        // Both loops without one: both pieces.
-        let flip = closing_pieces(&side, &copied, &loops, &paired_but(&[0, 1]));
-        assert_eq!(sorted(flip), sorted([cap.clone(), patch.clone()].concat()));
-        // Every loop paired: nothing moves.
-        assert!(closing_pieces(&side, &copied, &loops, &paired_but(&[])).is_empty());
-        // A piece larger than the cap is never moved, whatever its loops.
-        let big = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 5);
-        let big_side = Side::new(&big, (0..big.triangles.len() as u32).collect());
-        let copied: Vec<bool> = (0..big_side.triangles.len())
-            .map(|i| {
-                let c = big_side.corners(i).map(|v| big.positions[v as usize]);
-                (c[0] + c[1] + c[2]).z / 3.0 < 0.0
-            })
-            .collect();
-        let loops = boundary_loops(&big_side, &copied).expect("one loop");
-        assert_eq!(loops.len(), 1);
-        assert!(copied.iter().filter(|&&c| !c).count() > CAP);
-        assert!(closing_pieces(&big_side, &copied, &loops, &[false]).is_empty());
-    }
 }
