@@ -4,12 +4,15 @@
 //! Each iteration forms `Jᵀr`, solves `(JᵀJ + λ I) δ = −Jᵀr` with faer's sparse Cholesky
 //! factorization (the symbolic analysis is done once per graph; see [`LinearSolver`] for the two
 //! ways the factor is used), and accepts the step only if it lowers `E_tot`. A non-positive pivot,
-//! or a rise, adds Levenberg-Marquardt damping and tries again. Correspondences are re-projected
-//! from the deformed surface after every step (non-rigid ICP, Li et al. 2009). Within a stage a
-//! vertex's correspondence is replaced only when the new one fits the vertex better, so the
-//! stage's energy can only fall (every term is then no larger than before); each new stage starts
-//! from a complete fresh projection. While a stage iterates, the matrices of the next two stages
-//! are factored on threads of their own, and precondition those stages.
+//! or a rise, adds Levenberg-Marquardt damping and tries again; the damping follows the energy's
+//! actual against its predicted fall (`damping`: Nielsen's update), so it settles where the steps
+//! fit instead of swinging tenfold each iteration, and a retry solves from the factor it has.
+//! Correspondences are re-projected from the deformed surface after every step (non-rigid ICP, Li
+//! et al. 2009). Within a stage a vertex's correspondence is replaced only when the new one fits
+//! the vertex better, so the stage's energy can only fall (every term is then no larger than
+//! before); each new stage starts from a complete fresh projection. While a stage iterates, the
+//! matrices of the next two stages are factored on threads of their own, and precondition those
+//! stages.
 
 use std::sync::Arc;
 use std::thread::{Scope, ScopedJoinHandle};
@@ -22,10 +25,11 @@ use glam::{DVec3, Vec3};
 use super::assemble::{assemble, damp, damp_in_place};
 use super::cholesky::Cholesky;
 use super::correspond::{Correspond, Projector, targets};
+use super::damping::{Damping, gain_ratio};
 use super::energy::{CoarseWeights, FitTarget, energy, fit_energy, fit_pulls, gradient};
 use super::geodesic::sample;
 use super::graph::{DeformationGraph, check_indices, surface_area};
-use super::model::Model;
+use super::model::{Model, ordered_sum};
 use super::operator::GaussNewton;
 use super::options::{CoarseOptions, LinearSolver, RegisterOptions};
 use super::pattern::{Coupling, Pattern};
@@ -40,10 +44,6 @@ use crate::project::Bvh;
 
 /// Retries with raised damping before an iteration gives up.
 const MAX_RETRIES: usize = 12;
-
-/// Damping relative to the mean diagonal of the factored matrix on the first retry; each further
-/// retry ×10.
-const FIRST_DAMPING: f64 = 1e-6;
 
 /// A rise this small relative to the energy is rounding: the stage has converged.
 const ROUNDING: f64 = 1e-12;
@@ -89,7 +89,7 @@ pub struct CoarseSolver<'a> {
     delta: Vec<f64>,
     values: Vec<f64>,
     damped: Vec<f64>,
-    lambda: f64,
+    damping: Damping,
     scale: f64,
     /// The factor does not match the current weights (new stage) or has become a poor
     /// preconditioner.
@@ -190,7 +190,7 @@ impl<'a> CoarseSolver<'a> {
             rigid,
             x,
             deformed,
-            lambda: 0.0,
+            damping: Damping::none(),
             scale: 1.0,
             stale: true,
             factorizations: 0,
@@ -289,7 +289,12 @@ impl<'a> CoarseSolver<'a> {
     /// pivot raises the damping and refactors.
     pub fn factor(&mut self) -> Result<(), RegisterError> {
         loop {
-            damp(&self.pattern, &self.values, self.lambda, &mut self.damped);
+            damp(
+                &self.pattern,
+                &self.values,
+                self.damping.lambda(),
+                &mut self.damped,
+            );
             self.factorizations += 1;
             match self.cholesky.factor(&self.pattern, &self.damped) {
                 Ok(()) => {
@@ -297,7 +302,7 @@ impl<'a> CoarseSolver<'a> {
                     return Ok(());
                 }
                 Err(LltError::NonPositivePivot { index }) => {
-                    let lambda = self.lambda;
+                    let lambda = self.damping.lambda();
                     if !self.raise() {
                         return Err(FactorizationError::NotPositiveDefinite {
                             retries: MAX_RETRIES,
@@ -320,7 +325,7 @@ impl<'a> CoarseSolver<'a> {
             x: &self.x,
             fit: &self.fit,
             weights: self.weights,
-            damping: self.lambda,
+            damping: self.damping.lambda(),
         };
         self.delta.copy_from_slice(&self.rhs);
         self.cholesky.solve(&mut self.delta)?;
@@ -348,24 +353,28 @@ impl<'a> CoarseSolver<'a> {
         Ok(solve.iterations)
     }
 
-    /// Raises the damping for another try; false when the retries are spent.
+    /// Raises the damping for another try; false when the retries are spent. After a rejected step
+    /// the factor is kept: the damping only adds to the diagonal, so a factor of the less damped
+    /// matrix still preconditions the new one, and a retry costs conjugate gradients instead of a
+    /// factorization; a solve that needs more than `refactor_after` iterations marks the factor
+    /// stale as usual. (A non-positive pivot refactors at the raised damping in `factor`.)
     fn raise(&mut self) -> bool {
         self.retries += 1;
         if self.retries > MAX_RETRIES {
             return false;
         }
-        self.lambda = self.raised();
-        self.stale = true;
+        self.damping.raise(self.scale);
         true
     }
 
-    /// The damping of the next retry: tenfold, or the first retry's share of the matrix's scale.
-    fn raised(&self) -> f64 {
-        if self.lambda > 0.0 {
-            self.lambda * 10.0
-        } else {
-            self.scale * FIRST_DAMPING
-        }
+    /// Lowers the damping after an accepted step that lowered the energy by `actual`, by how well
+    /// that matched the fall its linearization predicted.
+    fn lower(&mut self, actual: f64) {
+        let (rhs, delta) = (&self.rhs, &self.delta);
+        let along = ordered_sum(delta.len(), |i| rhs[i] * delta[i]);
+        let length = ordered_sum(delta.len(), |i| delta[i] * delta[i]);
+        let gain = gain_ratio(actual, along, length, self.damping.lambda());
+        self.damping.lower(gain, self.scale);
     }
 
     /// Factorization buffers for a factor computed on another thread: a spare, or new ones.
@@ -486,16 +495,7 @@ impl<'a> CoarseSolver<'a> {
         fresh: &mut Vec<Option<FitTarget>>,
         carried: &mut Carried,
     ) -> Result<(), RegisterError> {
-        // A stage's first trial starts from a factor of an earlier state and is rejected more
-        // often than not; its second from the factor of the first's retry. After that, trials
-        // tend to go as the last one went: rejected again and again where the surfaces move far.
-        let mut retried = false;
         while stage.iterations.len() < self.options.max_stage_iterations {
-            let expect_retry = match stage.iterations.len() {
-                0 => true,
-                1 => false,
-                _ => retried,
-            };
             let Carried {
                 mut times,
                 factorizations,
@@ -506,8 +506,7 @@ impl<'a> CoarseSolver<'a> {
             self.factorizations = factorizations;
             self.retries = 0;
             let mut cg_iterations = 0;
-            let outcome = self.iterate(*e, expect_retry, &mut times, &mut cg_iterations)?;
-            retried = self.retries > 0;
+            let outcome = self.iterate(*e, &mut times, &mut cg_iterations)?;
             let damping = match outcome {
                 Outcome::Accepted { damping } => damping,
                 Outcome::Converged => {
@@ -629,7 +628,12 @@ impl<'a> CoarseSolver<'a> {
             reg: alpha_reg,
             ..self.weights
         };
-        let job = self.factor_job(cholesky, &self.fit_matrices(), &weights, self.lambda);
+        let job = self.factor_job(
+            cholesky,
+            &self.fit_matrices(),
+            &weights,
+            self.damping.lambda(),
+        );
         times.assembly += t.elapsed();
         running.push(Running {
             alpha_reg,
@@ -638,28 +642,18 @@ impl<'a> CoarseSolver<'a> {
         Ok(())
     }
 
-    /// One damped Gauss-Newton step from the current state (energy `e`).
-    ///
-    /// Where the surfaces move far (splashes on real fluid frames), iteration after iteration
-    /// tries the lowered damping first, sees the energy rise, and succeeds at the damping raised
-    /// back, which needs a new factor. So where the caller expects a retry (`expect_retry`), while the
-    /// trial solves from the old factor and evaluates, the factor its retry would need is computed
-    /// on a thread of its own ([`CoarseSolver::ahead`]); a rejected trial takes it instead of
-    /// factoring, an accepted one drops it. The steps taken are the ones the sequential retry
-    /// takes, bit for bit; where trials are accepted (quiet frames) nothing is computed ahead.
+    /// One damped Gauss-Newton step from the current state (energy `e`): solved from the current
+    /// factor (refactored first where it is stale), accepted if it lowers the energy, else retried
+    /// with raised damping from the same factor (see [`CoarseSolver::raise`]).
     fn iterate(
         &mut self,
         e: f64,
-        expect_retry: bool,
         times: &mut StepTimes,
         cg_iterations: &mut usize,
     ) -> Result<Outcome, RegisterError> {
         let t = Instant::now();
         self.assemble_gradient();
         times.assembly += t.elapsed();
-        // Whether the factor, and `values`, are of the current state: a trial from such a factor
-        // needs few conjugate-gradient iterations, and nothing is computed ahead of it.
-        let mut fresh = false;
         loop {
             if self.stale || self.refactor_after == 0 {
                 let t = Instant::now();
@@ -668,53 +662,21 @@ impl<'a> CoarseSolver<'a> {
                 let t = Instant::now();
                 self.factor()?;
                 times.factorization += t.elapsed();
-                fresh = true;
             }
-            let ahead = if fresh || !expect_retry {
-                None
-            } else {
-                self.ahead(times)?
-            };
-            let (trial, retry) = std::thread::scope(|scope| {
-                let running = ahead.map(|(job, undamped)| {
-                    let lambda = job.lambda;
-                    (lambda, undamped, scope.spawn(move || job.run()))
-                });
-                let trial = self.trial(times, cg_iterations);
-                let retry = running.map(|(lambda, undamped, handle)| match handle.join() {
-                    Ok(done) => (lambda, undamped, done),
-                    Err(panic) => std::panic::resume_unwind(panic),
-                });
-                (trial, retry)
-            });
-            let (trial, trial_deformed, trial_e) = match trial {
-                Ok(trial) => trial,
-                Err(error) => {
-                    self.drop_retry(retry);
-                    return Err(error);
-                }
-            };
+            let (trial, trial_deformed, trial_e) = self.trial(times, cg_iterations)?;
             if trial_e.is_finite() && trial_e <= e {
-                self.drop_retry(retry);
-                let damping = self.lambda;
-                self.lambda = if self.lambda > self.scale * FIRST_DAMPING {
-                    self.lambda / 10.0
-                } else {
-                    0.0
-                };
+                let damping = self.damping.lambda();
+                self.lower(e - trial_e);
                 self.x = trial;
                 self.deformed = trial_deformed;
                 return Ok(Outcome::Accepted { damping });
             }
             if trial_e.is_finite() && trial_e - e <= ROUNDING * e {
-                self.drop_retry(retry);
                 return Ok(Outcome::Converged);
             }
             if !self.raise() {
-                self.drop_retry(retry);
                 return Ok(Outcome::Stuck);
             }
-            fresh = self.take_retry(retry, times);
         }
     }
 
@@ -734,65 +696,6 @@ impl<'a> CoarseSolver<'a> {
         let trial_e = energy(&self.model, &trial, &trial_deformed, &self.current, w).total(w);
         times.evaluation += t.elapsed();
         Ok((trial, trial_deformed, trial_e))
-    }
-
-    /// The factorization a rejected trial would do next: the matrix at the current state damped
-    /// as [`CoarseSolver::raise`] would damp it, with the undamped matrix; none when the retries
-    /// are spent or every iteration factors anyway.
-    fn ahead(
-        &mut self,
-        times: &mut StepTimes,
-    ) -> Result<Option<(NextFactor, Vec<f64>)>, RegisterError> {
-        if self.refactor_after == 0 || self.retries + 1 > MAX_RETRIES {
-            return Ok(None);
-        }
-        let t = Instant::now();
-        let cholesky = self.spare_cholesky()?;
-        let job = self.factor_job(cholesky, &self.fit, &self.weights, self.raised());
-        let undamped = job.values.clone();
-        times.assembly += t.elapsed();
-        Ok(Some((job, undamped)))
-    }
-
-    /// After [`CoarseSolver::raise`]: the factor computed ahead replaces the one `factor` would
-    /// compute, if it was computed at this damping and its pivots were positive; otherwise its
-    /// buffers go back and the retry factors as usual. Whether it was taken.
-    fn take_retry(&mut self, retry: Option<Retry>, times: &mut StepTimes) -> bool {
-        let Some((lambda, undamped, (prepared, time))) = retry else {
-            return false;
-        };
-        match prepared {
-            Ok(prepared) if lambda == self.lambda => {
-                self.adopt(prepared);
-                self.values = undamped;
-                self.factorizations += 1;
-                times.factorization += time;
-                true
-            }
-            unused => {
-                self.spare.push(buffers(unused));
-                false
-            }
-        }
-    }
-
-    /// A factor computed ahead that no retry needs: its buffers go back.
-    fn drop_retry(&mut self, retry: Option<Retry>) {
-        if let Some((_, _, (prepared, _))) = retry {
-            self.spare.push(buffers(prepared));
-        }
-    }
-}
-
-/// A retry's factor computed ahead: its damping, the undamped matrix, and what
-/// [`NextFactor::run`] returned.
-type Retry = (f64, Vec<f64>, (Result<Prepared, Cholesky>, Duration));
-
-/// The factorization buffers of what [`NextFactor::run`] returned.
-fn buffers(result: Result<Prepared, Cholesky>) -> Cholesky {
-    match result {
-        Ok(prepared) => prepared.cholesky,
-        Err(cholesky) => cholesky,
     }
 }
 

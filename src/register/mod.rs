@@ -14,6 +14,7 @@ mod coarse;
 mod correspond;
 mod cover;
 mod cpu;
+mod damping;
 mod energy;
 mod error;
 mod fine;
