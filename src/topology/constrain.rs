@@ -95,7 +95,7 @@ fn resample(
     };
     // Built on the first comparison: most steps never compare components.
     let isosurface = OnceCell::new();
-    let compared = || isosurface.get_or_init(|| Isosurface::new(theta.frame(), &iso, &iso_edges));
+    let compared = || isosurface.get_or_init(|| Isosurface::of_field(theta, &iso, &iso_edges));
     let explained = if options.keep_shared_sheets {
         shared_sheet_cells(&grid, theta)
     } else {
