@@ -317,6 +317,28 @@ mod tests {
     }
 
     #[test]
+    fn a_blob_next_to_an_explained_body_is_left_alone_with_it() {
+        // A body whose cells are explained, a blob (not a droplet: 1.2 across, grid 0.25) within a
+        // cell of it in both surfaces, and a blob far away that Θ has and the result lacks.
+        let body = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
+        let blob = IndexedMesh::icosphere(Vec3::new(1.75, 0.0, 0.0), 0.6, 3);
+        let far = IndexedMesh::icosphere(Vec3::new(6.0, 0.0, 0.0), 0.6, 3);
+        let result = join(&body, &blob);
+        let theta = join(&join(&body, &blob), &far);
+        let cell = |p: Vec3| frame().to_grid(p).map(|x| x.floor() as i32);
+        let explained: FxHashSet<Cell> = [cell(body.positions[0])].into_iter().collect();
+        // The blob's only partner besides the body's is left alone with the body; the far blob
+        // Θ has alone is still a mismatch, and the near blob is not.
+        let wrong = compare_explained(&result, &theta, &explained);
+        assert!(wrong.binary_search(&cell(far.positions[0])).is_ok());
+        assert!(
+            blob.positions
+                .iter()
+                .all(|&p| wrong.binary_search(&cell(p)).is_err())
+        );
+    }
+
+    #[test]
     fn explained_components_and_droplets_are_left_to_the_caller() {
         // The result has a ball Θ lacks (a sheet Θ cannot hold, say) and a droplet next to a
         // ball both have: with the ball's cells explained, neither is a mismatch.
