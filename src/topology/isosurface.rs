@@ -41,15 +41,21 @@ pub(crate) fn isosurface(field: &Field, cells: &[(Cell, u8)]) -> (IndexedMesh, V
 
 /// Places the vertices of an isosurface from [`isosurface`] on Θ's zero set.
 pub(crate) fn place_isosurface(field: &Field, mesh: &mut IndexedMesh, edges: &[GridEdge]) {
+    mesh.positions = isosurface_positions(field, edges);
+}
+
+/// Where the vertices of an isosurface from [`isosurface`] lie on Θ's zero set: one on each grid
+/// edge of `edges`, where Θ crosses it.
+pub(crate) fn isosurface_positions(field: &Field, edges: &[GridEdge]) -> Vec<Vec3> {
     let frame = field.frame();
-    mesh.positions = edges
+    edges
         .par_iter()
         .map(|edge| {
             let mut g = DVec3::from_array(edge.corner.map(f64::from));
             g[edge.axis()] += f64::from(field.crossing(*edge));
             to_world(frame, g).as_vec3()
         })
-        .collect();
+        .collect()
 }
 
 /// The topology the result must have: the Euler characteristic of every component, sorted.

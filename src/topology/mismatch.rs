@@ -4,10 +4,11 @@
 //! then counts every difference as deep, but first only in these components' cells rather than
 //! everywhere — on a fluid's rippled surface, everywhere is most of the surface.
 
+use glam::Vec3;
 use rustc_hash::FxHashSet;
 
 use super::field::Field;
-use super::isosurface::place_isosurface;
+use super::isosurface::isosurface_positions;
 use super::keys::{Cell, GridEdge};
 use super::subgrid::SMALL_CELLS;
 use crate::grid::GridFrame;
@@ -23,24 +24,32 @@ pub(crate) struct Isosurface {
 }
 
 impl Isosurface {
-    /// From Θ's isosurface as [`isosurface`](super::isosurface::isosurface) builds it: its connectivity, one vertex on each grid
-    /// edge of `edges`, and no positions. Which components are droplets is a question of their
-    /// size, so the vertices are first placed on Θ's zero set; read at the unplaced positions (all
-    /// at the origin), every component of Θ, the main body included, counted as a droplet and took
-    /// no part in pairing, and the components of the result next to it none either.
+    /// From Θ's isosurface as [`isosurface`](super::isosurface::isosurface) builds it: its
+    /// connectivity, one vertex on each grid edge of `edges`, and no positions. Which components
+    /// are droplets is a question of their size, so it is read at the vertices' places on Θ's zero
+    /// set; at the unplaced positions (all at the origin) every component of Θ, the main body
+    /// included, would count as a droplet and take no part in pairing.
     pub(crate) fn of_field(field: &Field, iso: &IndexedMesh, edges: &[GridEdge]) -> Self {
-        let mut placed = iso.clone();
-        place_isosurface(field, &mut placed, edges);
-        Self::new(field.frame(), &placed, edges)
+        Self::new(
+            field.frame(),
+            iso,
+            &isosurface_positions(field, edges),
+            edges,
+        )
     }
 
-    /// From Θ's isosurface `iso` with its vertices placed, one vertex on each grid edge of
-    /// `edges`.
-    pub(crate) fn new(frame: &GridFrame, iso: &IndexedMesh, edges: &[GridEdge]) -> Self {
+    /// From the connectivity of Θ's isosurface `iso` and its vertices' `positions`, one on each
+    /// grid edge of `edges`.
+    pub(crate) fn new(
+        frame: &GridFrame,
+        iso: &IndexedMesh,
+        positions: &[Vec3],
+        edges: &[GridEdge],
+    ) -> Self {
         let (topology, labels) = iso.topology_with_labels();
         // A vertex of the isosurface lies on its grid edge, in the cells around the edge's corner.
         let cells = cells_of(edges.iter().map(|e| e.corner), &labels);
-        let droplets = small(frame, iso, &labels, topology.components.len());
+        let droplets = small(frame, positions, &labels, topology.components.len());
         Self {
             topology,
             cells,
@@ -124,7 +133,7 @@ pub(crate) fn mismatched(
         vec![false; theirs.components.len()],
     );
     if !explained.is_empty() {
-        let our_droplets = small(frame, result, &our_labels, ours.components.len());
+        let our_droplets = small(frame, &result.positions, &our_labels, ours.components.len());
         let droplets = &iso.droplets;
         known.clone_from(&our_droplets);
         for (c, l) in &our_cells {
@@ -185,11 +194,11 @@ pub(crate) fn mismatched(
     out
 }
 
-/// Per component (`labels` numbering the vertices of `mesh`), whether its bounding box spans at
-/// most [`SMALL_CELLS`] cells: a droplet, which the sub-grid match settles.
-fn small(frame: &GridFrame, mesh: &IndexedMesh, labels: &[u32], count: usize) -> Vec<bool> {
-    let mut boxes = vec![(glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN)); count];
-    for (p, &l) in mesh.positions.iter().zip(labels) {
+/// Per component (`labels` numbering the vertices at `positions`), whether its bounding box spans
+/// at most [`SMALL_CELLS`] cells: a droplet, which the sub-grid match settles.
+fn small(frame: &GridFrame, positions: &[Vec3], labels: &[u32], count: usize) -> Vec<bool> {
+    let mut boxes = vec![(Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)); count];
+    for (p, &l) in positions.iter().zip(labels) {
         if let Some(b) = boxes.get_mut(l as usize) {
             *b = (b.0.min(*p), b.1.max(*p));
         }
@@ -203,7 +212,6 @@ fn small(frame: &GridFrame, mesh: &IndexedMesh, labels: &[u32], count: usize) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::Vec3;
 
     fn frame() -> GridFrame {
         GridFrame::new(Vec3::ZERO, 0.25).unwrap()
@@ -231,7 +239,7 @@ mod tests {
         mismatched(
             &frame(),
             result,
-            &Isosurface::new(&frame(), iso, &edges),
+            &Isosurface::new(&frame(), iso, &iso.positions, &edges),
             explained,
         )
     }
