@@ -15,13 +15,18 @@ impl Components {
         };
         for t in triangles {
             for k in 1..3 {
-                let (a, b) = (components.find(t[0]), components.find(t[k]));
-                if a != b {
-                    components.parent[a.max(b) as usize] = a.min(b);
-                }
+                components.join(t[0], t[k]);
             }
         }
         components
+    }
+
+    /// Joins the components of `a` and `b`.
+    pub fn join(&mut self, a: u32, b: u32) {
+        let (a, b) = (self.find(a), self.find(b));
+        if a != b {
+            self.parent[a.max(b) as usize] = a.min(b);
+        }
     }
 
     /// The least vertex of `x`'s component (halving the path on the way).
