@@ -35,8 +35,8 @@
 //! them; where step 4 finds the result in pieces (the rim cut a bridge of the input), it grows
 //! where the smaller pieces come next to the largest; where step 4 finds another Euler
 //! characteristic, the tracked surface kept and the input left out differ in topology outside
-//! the region, and the region grows around the rims whose growth alone brings their Euler
-//! characteristics together ([`mending_rims`]: on the dam break's frame 34 the main body's region
+//! the region, and the region grows around the rims whose growth alone brings their numbers of
+//! handles together ([`mending_rims`]: on the dam break's frame 34 the main body's region
 //! then ends at 13.2k cells where growing every rim by a cell gave 22.0k); where none does, the
 //! region grows by a cell around all of it, then the clusters step 1 left out join the region,
 //! and if it is still found, the region grows around the samples of either surface farther from
@@ -302,16 +302,24 @@ fn grow_graft(
 /// so K and L, the surfaces outside the region, differ in topology, as where the rim cuts a
 /// tunnel of one surface that the other spans beside it. Growing the whole region by a cell
 /// moves every rim at once and re-samples a band along all of them; instead each kept loop's rim
-/// is grown alone, and the points of the loops whose growth brings χ(K) − χ(L) nearer 0 are
-/// returned. None where no loop's does (the difference lies away from the rims, or needs
-/// several at once), or where K and L agree (the result fails otherwise).
+/// is grown alone, and the points of the loops whose growth brings (χ + b)(K) − (χ + b)(L)
+/// nearer 0 are returned, b counting boundary loops: χ + b is twice the components less twice
+/// the handles, so a grown rim that merely leaves a loop without a partner does not count as a
+/// change (dam-break frame 32 frame by frame: 59.05% carried by χ alone, 68.27% by χ + b). None
+/// where no loop's growth does (the difference lies away from the rims, or needs several at
+/// once), or where K and L agree (the result fails otherwise).
 fn mending_rims(region: &[Cell], (ours, theirs): (&Side, &Side), memo: &Memo) -> Option<Vec<Vec3>> {
-    let ((kept, our_loops), (copied, _)) = masks(region, (ours, theirs), memo);
-    let our_loops = our_loops?;
-    let differ = |kept: &[bool], copied: &[bool]| {
-        mask_euler(ours, kept, true) - mask_euler(theirs, copied, false)
+    let ((kept, our_loops), (copied, their_loops)) = masks(region, (ours, theirs), memo);
+    let (our_loops, their_loops) = (our_loops?, their_loops?);
+    // χ + b (twice the components less twice the genus) of K against L, whose rims are the
+    // copied part's: a grown rim that leaves a loop without a partner changes χ but not the
+    // handles, and would otherwise read as a change of topology.
+    let differ = |kept: &[bool], copied: &[bool], rims: (usize, usize)| {
+        mask_euler(ours, kept, true) + rims.0 as i64
+            - mask_euler(theirs, copied, false)
+            - rims.1 as i64
     };
-    let before = differ(&kept, &copied);
+    let before = differ(&kept, &copied, (our_loops.len(), their_loops.len()));
     if before == 0 {
         return None;
     }
@@ -324,8 +332,12 @@ fn mending_rims(region: &[Cell], (ours, theirs): (&Side, &Side), memo: &Memo) ->
                 .map(|&v| cell(&memo.frame, ours.mesh.positions[v as usize]))
                 .collect();
             grow(&mut grown, &around);
-            let ((kept, _), (copied, _)) = masks(&grown, (ours, theirs), memo);
-            differ(&kept, &copied).abs() < before.abs()
+            match masks(&grown, (ours, theirs), memo) {
+                ((kept, Some(ks)), (copied, Some(cs))) => {
+                    differ(&kept, &copied, (ks.len(), cs.len())).abs() < before.abs()
+                }
+                _ => false,
+            }
         })
         .collect();
     let points: Vec<Vec3> = our_loops
