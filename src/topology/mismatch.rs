@@ -52,8 +52,9 @@ impl Isosurface {
         // A vertex of the isosurface lies on its grid edge, in the cells around the edge's corner.
         let cells = cells_of(edges.iter().map(|e| e.corner), &labels);
         let count = topology.components.len();
-        let droplets = small(frame, positions, &labels, count, SMALL_CELLS);
-        let blobs = small(frame, positions, &labels, count, BLOB_CELLS);
+        let spans = spans(positions, &labels, count);
+        let droplets = within(frame, &spans, SMALL_CELLS);
+        let blobs = within(frame, &spans, BLOB_CELLS);
         Self {
             topology,
             cells,
@@ -162,9 +163,15 @@ pub(crate) fn mismatched(
         vec![false; ours.components.len()],
         vec![false; theirs.components.len()],
     );
+    // The span of each component, read once for the droplets and blobs below.
+    let count = ours.components.len();
+    let our_spans = if explained.is_empty() {
+        Vec::new()
+    } else {
+        spans(&result.positions, &our_labels, count)
+    };
     if !explained.is_empty() {
-        let count = ours.components.len();
-        let our_droplets = small(frame, &result.positions, &our_labels, count, SMALL_CELLS);
+        let our_droplets = within(frame, &our_spans, SMALL_CELLS);
         let droplets = &iso.droplets;
         known.clone_from(&our_droplets);
         for (c, l) in &our_cells {
@@ -223,8 +230,7 @@ pub(crate) fn mismatched(
         // attempt here would count every difference of the surface as deep (DFSPH frame 23: two
         // blobs of 38 and 61 cells beside Θ's one sent the step over 12,134 cells, after three
         // attempts).
-        let count = ours.components.len();
-        let our_blobs = small(frame, &result.positions, &our_labels, count, BLOB_CELLS);
+        let our_blobs = within(frame, &our_spans, BLOB_CELLS);
         let mut groups = Components::new(count + theirs.components.len(), &[]);
         for (r, near) in our_partners.iter().enumerate() {
             for &i in near {
@@ -270,24 +276,24 @@ pub(crate) fn mismatched(
     out
 }
 
-/// Per component (`labels` numbering the vertices at `positions`), whether its bounding box spans
-/// at most `cells` cells: [`SMALL_CELLS`] for a droplet, which the sub-grid match settles.
-fn small(
-    frame: &GridFrame,
-    positions: &[Vec3],
-    labels: &[u32],
-    count: usize,
-    cells: f32,
-) -> Vec<bool> {
+/// Per component (`labels` numbering the vertices at `positions`), the length of its bounding
+/// box's diagonal.
+fn spans(positions: &[Vec3], labels: &[u32], count: usize) -> Vec<f32> {
     let mut boxes = vec![(Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)); count];
     for (p, &l) in positions.iter().zip(labels) {
         if let Some(b) = boxes.get_mut(l as usize) {
             *b = (b.0.min(*p), b.1.max(*p));
         }
     }
-    boxes
+    boxes.iter().map(|(lo, hi)| (*hi - *lo).length()).collect()
+}
+
+/// Per component of `spans`, whether it spans at most `cells` cells of `frame`: [`SMALL_CELLS`]
+/// for a droplet, which the sub-grid match settles.
+fn within(frame: &GridFrame, spans: &[f32], cells: f32) -> Vec<bool> {
+    spans
         .iter()
-        .map(|(lo, hi)| (*hi - *lo).length() <= cells * frame.spacing())
+        .map(|&s| s <= cells * frame.spacing())
         .collect()
 }
 

@@ -720,8 +720,8 @@ fn boundary_loops(side: &Side, mask: &[bool]) -> Option<Vec<Vec<u32>>> {
 }
 
 /// Pairs kept and copied loops that are each other's nearest (mean distance from each vertex of
-/// either to the nearest vertex of the other, among the few nearest by centroid). `gaps` holds the gaps of pairs
-/// measured before (keyed by the loops' vertices), and takes the new ones.
+/// either to the nearest vertex of the other, among the few nearest by centroid). `gaps` holds
+/// the gaps of pairs measured before (keyed by the loops' vertices), and takes the new ones.
 fn pair_loops(
     (ours, our_loops): (&IndexedMesh, &[Vec<u32>]),
     (theirs, their_loops): (&IndexedMesh, &[Vec<u32>]),
