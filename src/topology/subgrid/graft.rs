@@ -38,7 +38,8 @@
 //! the region, and the region grows around the rims whose growth alone brings their numbers of
 //! handles together ([`mending_rims`]: on the dam break's frame 34 the main body's region
 //! then ends at 13.2k cells where growing every rim by a cell gave 22.0k); where none does, the
-//! region grows by a cell around all of it, then the clusters step 1 left out join the region,
+//! whole clusters that step 1 narrowed to the parts carrying their change join the region, then
+//! the region grows by a cell around all of it, then the clusters step 1 left out join it,
 //! and if it is still found, the region grows around the samples of either surface farther from
 //! the other than half the bound, else a quarter (a hole or handle thinner than a cell that no
 //! grid edge meets still holds one surface off the other there); only when there are none does
@@ -186,6 +187,7 @@ pub(super) fn graft(
             return Ok(None);
         }
         seeds.all = dilate(&cells(found), 1);
+        seeds.changing.clone_from(&seeds.all);
     }
     let mut memo = Memo::new(&frame, ours, theirs);
     // A loose rim loop grows the region first only where it strays from the other side's rims;
@@ -235,6 +237,7 @@ fn grow_graft(
     let cells =
         |points: Vec<Vec3>| -> Vec<Cell> { points.iter().map(|&p| cell(&frame, p)).collect() };
     let mut widened = seeds.selected.is_empty();
+    let mut unsplit = widened || seeds.changing.len() == seeds.selected.len();
     let mut rimmed = widened;
     let mut region = if widened {
         seeds.all.clone()
@@ -255,6 +258,15 @@ fn grow_graft(
                     // beside a rim that growing around that rim alone mends: it grows there.
                     Verdict::Fails => match mending_rims(&region, (ours, theirs), memo) {
                         Some(points) => cells(points),
+                        // The narrowed parts missed part of a change: the clusters they came
+                        // from join whole.
+                        None if !unsplit => {
+                            unsplit = true;
+                            region.extend(seeds.changing.iter().copied());
+                            region.sort_unstable();
+                            region.dedup();
+                            continue;
+                        }
                         // The rim may cut through a selected difference: the region grows by
                         // one around all of them first, which keeps the graft local.
                         None if !rimmed => {

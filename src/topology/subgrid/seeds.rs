@@ -21,12 +21,15 @@
 //! strips, annuli of characteristic 0, so the grafted surface has χ(K) + χ(C), while the tracked
 //! one has χ(K) + χ(R) with `R` the tracked triangles it removes; the cluster changes χ by
 //! χ(C) − χ(R). A cluster whose change is 0 holds ripples, or changes that cancel, and is left
-//! alone. Every cluster stays at hand: when a graft of the selected ones still misses the input's
-//! topology, the region takes them all.
+//! alone. A cluster that changes χ is narrowed to the parts of it that carry the change
+//! ([`split_changes`]): on a rippled sheet one hole that opened joins every ripple beside it in one
+//! cluster. Every cluster stays at hand: when a graft of the narrowed parts misses the input's
+//! topology, the region takes the whole clusters that change χ, and then all of them.
 
 use glam::Vec3;
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
+use std::ops::Range;
 
 use super::SubgridError;
 use crate::compute::Backend;
@@ -40,9 +43,14 @@ use crate::topology::nearest::Survivors;
 
 /// The cells a graft's region starts from.
 pub(super) struct Seeds {
-    /// The cells of the far samples and of the clusters that change the topology, grown by one.
+    /// The cells of the far samples and of the parts of clusters that carry a change of the
+    /// topology, grown by one.
     pub selected: Vec<Cell>,
-    /// The cells of the far samples and of every cluster, grown by one (the region's fallback).
+    /// The cells of the far samples and of the whole clusters that change the topology, grown by
+    /// one (the region's first fallback).
+    pub changing: Vec<Cell>,
+    /// The cells of the far samples and of every cluster, grown by one (the region's last
+    /// fallback).
     pub all: Vec<Cell>,
 }
 
@@ -72,6 +80,7 @@ pub(super) fn seeds(
         far_cells.extend(bridges(frame, ours, input));
         let selected = dilate(&far_cells, 1);
         return Ok(Seeds {
+            changing: selected.clone(),
             all: selected.clone(),
             selected,
         });
@@ -119,23 +128,119 @@ pub(super) fn seeds(
     }
     around_edges.sort_unstable();
     around_edges.dedup();
-    let grown: Vec<Vec<Cell>> = clusters(&around_edges)
-        .iter()
-        .map(|m| dilate(m, 1))
-        .collect();
+    let found = clusters(&around_edges);
+    let grown: Vec<Vec<Cell>> = found.iter().map(|m| dilate(m, 1)).collect();
     let changes = euler_changes(frame, &grown, ours, input);
-    let mut all = selected.clone();
-    for (cells, change) in grown.into_iter().zip(changes) {
+    let (mut changing, mut all) = (selected.clone(), selected.clone());
+    let mut changes_of = Vec::new();
+    for ((cells, change), bare) in grown.into_iter().zip(changes).zip(found) {
         if change != 0 {
-            selected.extend(cells.iter().copied());
+            changing.extend(cells.iter().copied());
+            changes_of.push((bare, change));
         }
         all.extend(cells);
     }
-    for set in [&mut selected, &mut all] {
+    for part in split_changes(frame, changes_of, (ours, input)) {
+        selected.extend(dilate(&part, 1));
+    }
+    for set in [&mut selected, &mut changing, &mut all] {
         set.sort_unstable();
         set.dedup();
     }
-    Ok(Seeds { selected, all })
+    Ok(Seeds {
+        selected,
+        changing,
+        all,
+    })
+}
+
+/// The parts of the clusters `changing` (each its cells around differently crossed edges, not
+/// grown, with the change of χ that replacing it makes) that carry their change. On a fluid's
+/// rippled sheet the differently crossed edges touch one another across the sheet, and a cluster
+/// holding one hole that opened holds every ripple beside it: selecting all of it re-samples the
+/// sheet (dam-break frame 30: one re-sampled patch of 4,129 vertices, three in four of them
+/// re-sampled again the next frame). So each cluster is cut in two by a grid plane, each side
+/// split into the clusters it falls into, and where the parts' changes add up to the whole's,
+/// the parts that change χ are kept and cut again. A plane through the change itself makes the
+/// parts' grown cells count it twice or not at all, so several planes are tried ([`cuts`]) and,
+/// of those whose parts add up, the one keeping the fewest cells is taken; where none adds up, or
+/// the cluster is one cell wide, the cluster is kept whole. The graft checks the topology it
+/// gives and falls back on the whole clusters, so a cut that misleads costs re-sampling, never
+/// correctness.
+fn split_changes(
+    frame: &GridFrame,
+    mut changing: Vec<(Vec<Cell>, i64)>,
+    (ours, input): (&IndexedMesh, &IndexedMesh),
+) -> Vec<Vec<Cell>> {
+    let mut kept: Vec<Vec<Cell>> = Vec::new();
+    while !changing.is_empty() {
+        // Every cut of every cluster of this round is measured in one pass: per cluster, per
+        // cut, the range of its parts.
+        let mut parts: Vec<Vec<Cell>> = Vec::new();
+        let mut tried: Vec<Vec<Range<usize>>> = Vec::with_capacity(changing.len());
+        for (cells, _) in &changing {
+            tried.push(
+                cuts(cells)
+                    .into_iter()
+                    .map(|(low, high)| {
+                        let start = parts.len();
+                        parts.extend(clusters(&low));
+                        parts.extend(clusters(&high));
+                        start..parts.len()
+                    })
+                    .collect(),
+            );
+        }
+        let grown: Vec<Vec<Cell>> = parts.iter().map(|m| dilate(m, 1)).collect();
+        let changes = euler_changes(frame, &grown, ours, input);
+        let mut next = Vec::new();
+        for ((cells, change), ranges) in changing.into_iter().zip(tried) {
+            let carrying = |range: &Range<usize>| range.clone().filter(|&k| changes[k] != 0);
+            let best = ranges
+                .into_iter()
+                .filter(|range| changes[range.clone()].iter().sum::<i64>() == change)
+                .min_by_key(|range| carrying(range).map(|k| parts[k].len()).sum::<usize>());
+            match best {
+                Some(range) => {
+                    for k in carrying(&range).collect::<Vec<_>>() {
+                        next.push((std::mem::take(&mut parts[k]), changes[k]));
+                    }
+                }
+                None => kept.push(cells),
+            }
+        }
+        changing = next;
+    }
+    kept
+}
+
+/// The ways [`split_changes`] tries to cut `cells` in two: along each axis on which they are more
+/// than one cell wide, the planes at a half, a quarter and three quarters of their extent, the
+/// widest axis first. None where they are one cell wide in every direction.
+fn cuts(cells: &[Cell]) -> Vec<(Vec<Cell>, Vec<Cell>)> {
+    let (mut lo, mut hi) = ([i32::MAX; 3], [i32::MIN; 3]);
+    for c in cells {
+        for a in 0..3 {
+            lo[a] = lo[a].min(c[a]);
+            hi[a] = hi[a].max(c[a]);
+        }
+    }
+    let mut axes = [0, 1, 2];
+    axes.sort_by_key(|&a| std::cmp::Reverse((hi[a] - lo[a], a)));
+    let mut out = Vec::new();
+    for axis in axes {
+        let width = hi[axis] - lo[axis] + 1;
+        let mut planes: Vec<i32> = [width / 2, width / 4, 3 * width / 4]
+            .iter()
+            .map(|&k| lo[axis] + k)
+            .filter(|&p| lo[axis] < p && p <= hi[axis])
+            .collect();
+        planes.dedup();
+        for plane in planes {
+            out.push(cells.iter().partition(|c| c[axis] < plane));
+        }
+    }
+    out
 }
 
 /// The cells of the input's edges whose ends lie nearest to different components of `ours`
@@ -253,6 +358,60 @@ mod tests {
             &ScalarGrid::from_fn(origin, h, [120, 120, 80], f).unwrap(),
             0.0,
         )
+    }
+
+    /// A slab 40 × 6 × 2 cells (on a grid of unit spacing), with a tunnel of radius 1.2 through
+    /// its thickness at x = HOLE where `tunnel`.
+    const HOLE: f32 = 9.5;
+
+    fn slab(tunnel: bool) -> IndexedMesh {
+        let f = move |p: Vec3| {
+            let d = p.abs() - Vec3::new(20.0, 3.0, 1.0);
+            let slab = d.max(Vec3::ZERO).length() + d.max_element().min(0.0);
+            let hole = 1.2 - Vec3::new(p.x - HOLE, p.y, 0.0).length();
+            if tunnel { slab.max(hole) } else { slab }
+        };
+        let origin = Vec3::new(-22.0, -5.0, -3.0) + Vec3::new(0.031, 0.017, 0.043);
+        marching_cubes(
+            &ScalarGrid::from_fn(origin, 0.25, [176, 40, 24], f).unwrap(),
+            0.0,
+        )
+    }
+
+    #[test]
+    fn a_cluster_that_changes_the_topology_narrows_to_where_it_does() {
+        let frame = GridFrame::new(Vec3::new(0.013, -0.021, 0.007), 1.0).unwrap();
+        let (ours, input) = (slab(false), slab(true));
+        // One cluster over both surfaces whole: the tunnel changes χ from 2 to 0.
+        let mut cluster: Vec<Cell> = ours
+            .positions
+            .iter()
+            .chain(&input.positions)
+            .map(|&p| cell(&frame, p))
+            .collect();
+        cluster.sort_unstable();
+        cluster.dedup();
+        let whole = euler_changes(&frame, &[dilate(&cluster, 1)], &ours, &input);
+        assert_eq!(whole, vec![-2]);
+        let parts = split_changes(&frame, vec![(cluster.clone(), -2)], (&ours, &input));
+        // The parts still carry the change, and lie around the tunnel only.
+        let grown: Vec<Vec<Cell>> = parts.iter().map(|p| dilate(p, 1)).collect();
+        assert_eq!(
+            euler_changes(&frame, &grown, &ours, &input)
+                .iter()
+                .sum::<i64>(),
+            -2
+        );
+        let cells: usize = parts.iter().map(Vec::len).sum();
+        assert!(4 * cells <= cluster.len(), "{cells} of {}", cluster.len());
+        assert!(parts.iter().flatten().all(|c| c[0] >= 3), "{parts:?}");
+        // Where nothing changes χ on one side of every cut, nothing is kept there either; a
+        // cluster one cell wide stays whole.
+        let single = vec![cluster[0]];
+        assert_eq!(
+            split_changes(&frame, vec![(single.clone(), 1)], (&ours, &input)),
+            vec![single]
+        );
     }
 
     #[test]
