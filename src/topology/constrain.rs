@@ -128,9 +128,9 @@ fn resample(
     // Whether the last attempt failed locally (its cells are in `extra`), and how often the
     // current step was tried again for it.
     let (mut local, mut retries) = (false, 0);
-    // The previous attempt's region: a focused attempt that re-samples no more than it did
-    // found nothing in the wrong components that the grid can re-sample.
-    let mut previous: Option<FxHashSet<Cell>> = None;
+    // The cells of the components the last attempt of the wrong topology got wrong: a focused
+    // attempt that gets the same ones wrong found nothing there that the grid can mend.
+    let mut still_wrong: Option<Vec<Cell>> = None;
     loop {
         let again = local && retries < LOCAL_RETRIES && focus.is_none() && fallback.is_none();
         if step >= steps.len() && !again {
@@ -174,7 +174,6 @@ fn resample(
         cells.sort_unstable();
         cells.dedup();
         let region = grow(&cells, &mut checks);
-        let unchanged = previous.as_ref() == Some(&region);
         report.seed_cells = cells.len();
         report.region_cells = region.len();
         report.classify += clock.elapsed();
@@ -196,13 +195,15 @@ fn resample(
                 let recorded = record(&grid, &built, &splits, (mesh.next_id(), &old))?;
                 let judged = accepted(&built.mesh);
                 // Every difference inside the components that came out wrong was re-sampled,
-                // and the region is the last attempt's: what makes them differ from Θ's lies
-                // below the grid. Keeping shared sheets, the caller matches the input there, and
-                // the result is taken; the ladder's next step would re-sample every shallow
-                // difference of the whole surface instead (DFSPH frame 30: 13,392 cells rather
-                // than 5,887, for three small components against Θ's two).
-                let below =
-                    options.keep_shared_sheets && focused && unchanged && fallback.is_none();
+                // and the same components came out wrong again: what makes them differ from
+                // Θ's lies below the grid. Keeping shared sheets, the caller matches the input
+                // there, and the result is taken; the ladder's next step would re-sample every
+                // shallow difference of the whole surface instead (DFSPH frame 30: 13,392 cells
+                // rather than 5,887, for three small components against Θ's two).
+                let below = options.keep_shared_sheets
+                    && focused
+                    && fallback.is_none()
+                    && matches!(&judged, Err(Some(wrong)) if still_wrong.as_ref() == Some(wrong));
                 let verdict = verify(&built.mesh, &recorded, judged.is_ok() || below);
                 Ok((built, recorded, verdict, judged))
             }
@@ -232,16 +233,21 @@ fn resample(
                 }
                 Err(Failure::Topology) => {
                     report.abandoned.push(Abandoned::Topology);
+                    // Keeping shared sheets, the comparison named the wrong components already.
+                    let named = match judged {
+                        Err(Some(wrong)) => Some(wrong),
+                        _ => None,
+                    };
                     if !focused && steps[step - 1].depth > 0 {
-                        let wrong = match judged {
-                            Err(Some(wrong)) => wrong,
-                            _ => mismatched(theta.frame(), &built.mesh, compared(), &explained),
-                        };
+                        let wrong = named.clone().unwrap_or_else(|| {
+                            mismatched(theta.frame(), &built.mesh, compared(), &explained)
+                        });
                         let wrong = dilate(&wrong, 1);
                         if !wrong.is_empty() {
                             focus = Some((wrong, tried, true));
                         }
                     }
+                    still_wrong = named;
                 }
                 Err(Failure::Element(vertices)) => {
                     let cells: Vec<Cell> = vertices
@@ -258,7 +264,6 @@ fn resample(
             },
         }
         extra = widen(&extra);
-        previous = Some(region);
     }
     report.region_cells = surface.len();
     let replacement = replace_whole(
