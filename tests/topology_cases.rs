@@ -501,3 +501,60 @@ fn shared_sheets_below_the_grid_are_kept_when_asked() {
         "a sheet the target lacks was kept"
     );
 }
+
+/// A bar 16 cells long (so not a blob the comparison would leave alone), ending in the middle of
+/// the cell `[0, 1]³` of `frame()`, with a ring inside that cell, half sunk into the bar's end,
+/// where `handle`: a handle that no grid edge, face or corner meets, which Θ cannot see.
+fn bar(handle: bool) -> IndexedMesh {
+    let centre = Vec3::new(0.513, 0.479, 0.507);
+    let f = move |p: Vec3| {
+        let lo = Vec3::new(-15.5, -1.3, -1.3);
+        let hi = Vec3::new(centre.x, 2.3, 2.3);
+        let d = (lo - p).max(p - hi);
+        let bar = d.max(Vec3::ZERO).length() + d.max_element().min(0.0);
+        if handle {
+            bar.min(torus(0.25, 0.1)(p - centre))
+        } else {
+            bar
+        }
+    };
+    let h = 0.05;
+    let origin = Vec3::new(-16.5, -2.3, -2.3) + Vec3::new(0.31, 0.17, 0.43) * h;
+    let grid = ScalarGrid::from_fn(origin, h, [360, 112, 112], f).unwrap();
+    marching_cubes(&grid, 0.0)
+}
+
+/// With `keep_shared_sheets` (a caller that matches the input below the grid follows), a
+/// component whose topology differs from Θ's where no grid edge, face or corner can tell, and
+/// that re-sampling every difference inside it leaves as wrong as before, is left to that
+/// caller: the result keeps the handle and every vertex of the bar, and re-samples only where Θ
+/// differs visibly (a blob the mesh lacks). Without the option the guarantee holds: Θ's topology,
+/// here only by replacing the whole surface.
+#[test]
+fn a_difference_the_grid_cannot_mend_is_left_to_a_caller_below_the_grid() {
+    let mesh = bar(true);
+    assert_eq!(euler_list(&mesh), vec![0], "the bar has its handle");
+    let mut target = bar(false);
+    let blob = surface(ball(Vec3::new(-8.0, 0.5, 7.0), 1.6), 0.4);
+    let offset = target.positions.len() as u32;
+    target.positions.extend(&blob.positions);
+    target
+        .triangles
+        .extend(blob.triangles.iter().map(|t| t.map(|v| v + offset)));
+    let theta = phi(&target);
+
+    let keep = TopologyOptions {
+        keep_shared_sheets: true,
+        ..TopologyOptions::default()
+    };
+    let mut kept = Mesh::from_indexed(&mesh).unwrap();
+    let report = constrain_topology(&mut kept, &theta, &keep).unwrap();
+    let result = kept.to_indexed();
+    result.validate().unwrap();
+    assert_eq!(euler_list(&result), vec![0, 2], "{report:?}");
+    assert_eq!(report.kept, mesh.positions.len(), "the bar was re-sampled");
+
+    let mut strict = Mesh::from_indexed(&mesh).unwrap();
+    constrain_topology(&mut strict, &theta, &TopologyOptions::default()).unwrap();
+    assert_eq!(euler_list(&strict.to_indexed()), vec![2, 2]);
+}
