@@ -128,9 +128,9 @@ fn resample(
     // Whether the last attempt failed locally (its cells are in `extra`), and how often the
     // current step was tried again for it.
     let (mut local, mut retries) = (false, 0);
-    // The cells of the components the last attempt of the wrong topology got wrong: a focused
-    // attempt that gets the same ones wrong found nothing there that the grid can mend.
-    let mut still_wrong: Option<Vec<Cell>> = None;
+    // The cells a focused attempt works on (the wrong components' cells, grown by one): one whose
+    // result is wrong only there found nothing there that the grid can mend.
+    let mut focus_area: Vec<Cell> = Vec::new();
     loop {
         let again = local && retries < LOCAL_RETRIES && focus.is_none() && fallback.is_none();
         if step >= steps.len() && !again {
@@ -195,15 +195,16 @@ fn resample(
                 let recorded = record(&grid, &built, &splits, (mesh.next_id(), &old))?;
                 let judged = accepted(&built.mesh);
                 // Every difference inside the components that came out wrong was re-sampled,
-                // and the same components came out wrong again: what makes them differ from
-                // Θ's lies below the grid. Keeping shared sheets, the caller matches the input
-                // there, and the result is taken; the ladder's next step would re-sample every
-                // shallow difference of the whole surface instead (DFSPH frame 30: 13,392 cells
-                // rather than 5,887, for three small components against Θ's two).
+                // and the result is wrong there again, and nowhere else: what makes them differ
+                // from Θ's lies below the grid. Keeping shared sheets, the caller matches the
+                // input there, and the result is taken; the ladder's next step would re-sample
+                // every shallow difference of the whole surface instead (DFSPH frame 30: 13,392
+                // cells rather than 5,887, for three small components against Θ's two).
                 let below = options.keep_shared_sheets
                     && focused
                     && fallback.is_none()
-                    && matches!(&judged, Err(Some(wrong)) if still_wrong.as_ref() == Some(wrong));
+                    && matches!(&judged, Err(Some(wrong))
+                        if wrong.iter().all(|c| focus_area.binary_search(c).is_ok()));
                 let verdict = verify(&built.mesh, &recorded, judged.is_ok() || below);
                 Ok((built, recorded, verdict, judged))
             }
@@ -233,21 +234,17 @@ fn resample(
                 }
                 Err(Failure::Topology) => {
                     report.abandoned.push(Abandoned::Topology);
-                    // Keeping shared sheets, the comparison named the wrong components already.
-                    let named = match judged {
-                        Err(Some(wrong)) => Some(wrong),
-                        _ => None,
-                    };
                     if !focused && steps[step - 1].depth > 0 {
-                        let wrong = named.clone().unwrap_or_else(|| {
-                            mismatched(theta.frame(), &built.mesh, compared(), &explained)
-                        });
+                        let wrong = match judged {
+                            Err(Some(wrong)) => wrong,
+                            _ => mismatched(theta.frame(), &built.mesh, compared(), &explained),
+                        };
                         let wrong = dilate(&wrong, 1);
                         if !wrong.is_empty() {
+                            focus_area.clone_from(&wrong);
                             focus = Some((wrong, tried, true));
                         }
                     }
-                    still_wrong = named;
                 }
                 Err(Failure::Element(vertices)) => {
                     let cells: Vec<Cell> = vertices
