@@ -28,10 +28,11 @@
 
 use glam::Vec3;
 use rayon::prelude::*;
-use rustc_hash::FxHashMap;
+use rustc_hash::{FxHashMap, FxHashSet};
 use std::ops::Range;
 
 use super::SubgridError;
+use super::graft::submesh;
 use crate::compute::Backend;
 use crate::geometry::Components;
 use crate::grid::{GridFrame, LatticeMesh, cross_axes, rasterize};
@@ -172,6 +173,24 @@ fn split_changes(
     mut changing: Vec<(Vec<Cell>, i64)>,
     (ours, input): (&IndexedMesh, &IndexedMesh),
 ) -> Vec<Vec<Cell>> {
+    // Every part, grown by one, lies in its cluster grown by one: only the triangles with a
+    // corner there count in any part's change, so each round measures those alone.
+    let zone: FxHashSet<Cell> = changing
+        .iter()
+        .flat_map(|(cells, _)| dilate(cells, 1))
+        .collect();
+    let near = |mesh: &IndexedMesh| -> IndexedMesh {
+        let touching: Vec<u32> = (0..mesh.triangles.len() as u32)
+            .into_par_iter()
+            .filter(|&t| {
+                mesh.triangles[t as usize]
+                    .iter()
+                    .any(|&v| zone.contains(&cell(frame, mesh.positions[v as usize])))
+            })
+            .collect();
+        submesh(mesh, &touching)
+    };
+    let (ours, input) = (&near(ours), &near(input));
     let mut kept: Vec<Vec<Cell>> = Vec::new();
     while !changing.is_empty() {
         // Every cut of every cluster of this round is measured in one pass: per cluster, per
