@@ -17,7 +17,8 @@
 //! With `keep_shared_sheets` (for a caller that matches the input's own topology below the grid
 //! afterwards) a sheet thinner than a cell that Θ's mesh has too is no difference, and a result
 //! is accepted where its topology differs from Θ's only in components holding such a sheet, or in
-//! droplets (`mismatch`).
+//! droplets (`mismatch`), or in components that an attempt focused on them left as wrong as
+//! before: the grid cannot mend those, and the caller matches them below it.
 
 use std::cell::OnceCell;
 use std::rc::Rc;

@@ -46,8 +46,8 @@
 //! the whole region grow. Where step 1 finds nothing at all although the topology differs, the
 //! region is seeded the same way. Steps 2–4 then run again, up to [`GROWTHS`] times; where the
 //! region grown from the narrowed clusters runs out of them, the graft starts over from the whole
-//! clusters that change χ (DFSPH frame 27 of one run: the main body replaced whole, 0.4% carried,
-//! against 77.1% so); after that the caller replaces the whole component.
+//! clusters that change χ (DFSPH frame 27 of one run: without it the main body was replaced
+//! whole, 0.4% carried, with it 77.1%); after that the caller replaces the whole component.
 
 use glam::Vec3;
 use rustc_hash::{FxHashMap, FxHashSet};
