@@ -277,9 +277,7 @@ fn grow_graft(
                         // from join whole.
                         None if !unsplit => {
                             unsplit = true;
-                            region.extend(seeds.changing.iter().copied());
-                            region.sort_unstable();
-                            region.dedup();
+                            join(&mut region, &seeds.changing);
                             continue;
                         }
                         // The rim may cut through a selected difference: the region grows by
@@ -291,9 +289,7 @@ fn grow_graft(
                         // The selected clusters are not all the difference: every cluster joins.
                         None if !widened => {
                             widened = true;
-                            region.extend(seeds.all.iter().copied());
-                            region.sort_unstable();
-                            region.dedup();
+                            join(&mut region, &seeds.all);
                             continue;
                         }
                         // Where the topology went wrong is not known. A hole or handle thinner
@@ -577,13 +573,18 @@ fn attempt(
 fn grow(region: &mut Vec<[i32; 3]>, trouble: &[[i32; 3]]) {
     let size = region.len();
     for reach in 1..=REACH {
-        region.extend(dilate(trouble, reach));
-        region.sort_unstable();
-        region.dedup();
+        join(region, &dilate(trouble, reach));
         if region.len() > size {
             return;
         }
     }
+}
+
+/// Adds `cells` to `region`, keeping it sorted and without repeats.
+fn join(region: &mut Vec<[i32; 3]>, cells: &[[i32; 3]]) {
+    region.extend_from_slice(cells);
+    region.sort_unstable();
+    region.dedup();
 }
 
 /// Farthest, in cells, the region grows around one trouble spot in one growth.

@@ -134,14 +134,16 @@ pub(super) fn seeds(
     let changes = euler_changes(frame, &grown, ours, input);
     let (mut changing, mut all) = (selected.clone(), selected.clone());
     let mut changes_of = Vec::new();
+    let mut zone: FxHashSet<Cell> = FxHashSet::default();
     for ((cells, change), bare) in grown.into_iter().zip(changes).zip(found) {
         if change != 0 {
             changing.extend(cells.iter().copied());
+            zone.extend(cells.iter().copied());
             changes_of.push((bare, change));
         }
         all.extend(cells);
     }
-    for part in split_changes(frame, changes_of, (ours, input)) {
+    for part in split_changes(frame, changes_of, &zone, (ours, input)) {
         selected.extend(dilate(&part, 1));
     }
     for set in [&mut selected, &mut changing, &mut all] {
@@ -167,18 +169,15 @@ pub(super) fn seeds(
 /// of those whose parts add up, the one keeping the fewest cells is taken; where none adds up, or
 /// the cluster is one cell wide, the cluster is kept whole. The graft checks the topology it
 /// gives and falls back on the whole clusters, so a cut that misleads costs re-sampling, never
-/// correctness.
+/// correctness. `zone` holds the clusters' cells grown by one: every part, grown by one, lies
+/// there, so only the triangles with a corner in it count in any part's change, and each round
+/// measures those alone.
 fn split_changes(
     frame: &GridFrame,
     mut changing: Vec<(Vec<Cell>, i64)>,
+    zone: &FxHashSet<Cell>,
     (ours, input): (&IndexedMesh, &IndexedMesh),
 ) -> Vec<Vec<Cell>> {
-    // Every part, grown by one, lies in its cluster grown by one: only the triangles with a
-    // corner there count in any part's change, so each round measures those alone.
-    let zone: FxHashSet<Cell> = changing
-        .iter()
-        .flat_map(|(cells, _)| dilate(cells, 1))
-        .collect();
     let near = |mesh: &IndexedMesh| -> IndexedMesh {
         let touching: Vec<u32> = (0..mesh.triangles.len() as u32)
             .into_par_iter()
@@ -412,7 +411,8 @@ mod tests {
         cluster.dedup();
         let whole = euler_changes(&frame, &[dilate(&cluster, 1)], &ours, &input);
         assert_eq!(whole, vec![-2]);
-        let parts = split_changes(&frame, vec![(cluster.clone(), -2)], (&ours, &input));
+        let zone: FxHashSet<Cell> = dilate(&cluster, 1).into_iter().collect();
+        let parts = split_changes(&frame, vec![(cluster.clone(), -2)], &zone, (&ours, &input));
         // The parts still carry the change, and lie around the tunnel only.
         let grown: Vec<Vec<Cell>> = parts.iter().map(|p| dilate(p, 1)).collect();
         assert_eq!(
@@ -428,7 +428,7 @@ mod tests {
         // cluster one cell wide stays whole.
         let single = vec![cluster[0]];
         assert_eq!(
-            split_changes(&frame, vec![(single.clone(), 1)], (&ours, &input)),
+            split_changes(&frame, vec![(single.clone(), 1)], &zone, (&ours, &input)),
             vec![single]
         );
     }
