@@ -8,7 +8,7 @@ import zlib
 
 import numpy as np
 
-KINDS = ["split_edge", "split_face", "collapse", "patch_created", "patch_deleted"]
+KINDS = ["split_edge", "split_face", "collapse", "patch_created", "patch_deleted", "merge"]
 
 
 def read_events(path):

@@ -12,6 +12,7 @@ fn sample() -> EventList {
     list.push(Event::collapse(40, 7, 42));
     list.push(Event::patch_created(43, vec![(1, 0.25), (2, 0.75)]));
     list.push(Event::patch_deleted(5, vec![(43, 1.0)]));
+    list.push(Event::merge(42, 8));
     list.push(Event {
         kind: EventKind::PatchCreated,
         inputs: vec![],
@@ -99,6 +100,7 @@ fn the_documented_python_reader_agrees() {
         "collapse",
         "patch_created",
         "patch_deleted",
+        "merge",
     ];
     for (py, rs) in events.iter().zip(&list.events) {
         let kind = match rs.kind {
@@ -107,6 +109,7 @@ fn the_documented_python_reader_agrees() {
             EventKind::Collapse => 2,
             EventKind::PatchCreated => 3,
             EventKind::PatchDeleted => 4,
+            EventKind::Merge => 5,
         };
         assert_eq!(py["kind"], kinds[kind]);
         let ids = |v: &serde_json::Value| -> Vec<u64> {

@@ -98,13 +98,14 @@ fn check_scene(scene: Scene, indices: &[usize]) {
         let passing = o.after.passing_fraction();
         println!(
             "{scene} frame {index}: {} -> {} triangles, passing {:.4} -> {passing:.4}, moved {:.4} L, \
-             {} splits {} collapses {} flips ({} events)",
+             {} splits {} collapses {} merges {} flips ({} events)",
             o.before.triangles,
             o.after.triangles,
             o.before.passing_fraction(),
             o.moved,
             o.report.splits,
             o.report.collapses,
+            o.report.merges,
             o.report.flips,
             o.events
         );
@@ -114,8 +115,8 @@ fn check_scene(scene: Scene, indices: &[usize]) {
         );
         assert_eq!(
             o.events,
-            o.report.splits + o.report.collapses,
-            "one event per split and collapse"
+            o.report.splits + o.report.collapses + o.report.merges,
+            "one event per split, collapse and merge"
         );
         total += o.after.triangles;
         failing += o.after.failing;

@@ -94,37 +94,77 @@ fn scaling_the_mesh_and_the_target_length_scales_the_result() {
 
 #[test]
 fn the_deviation_limit_stops_collapses_that_would_move_the_surface() {
-    // A sphere with one edge split close to an end: the short edge lies on a curved surface, so
-    // collapsing it (or its end along another edge) moves the surface a little.
+    // A sphere with one edge split close to an end and the new vertex raised a little: the short
+    // edge lies on a bump, so collapsing or merging it (or its end along another edge) moves the
+    // surface a little.
     let input = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 2);
     let l = input.mean_edge_length();
     let mut mesh = Mesh::from_indexed(&input).expect("valid");
     let h = mesh.edges().next().expect("an edge");
-    mesh.split_edge(h, 0.1).expect("split");
+    let m = mesh.split_edge(h, 0.1).expect("split");
+    let p = mesh.position(m);
+    mesh.set_position(m, p + p.normalize() * 0.01 * l);
     let with_short_edge = mesh.to_indexed();
 
     let mut strict = ImproveParams::new(l);
     strict.max_deviation = 0.0;
     let mut mesh = Mesh::from_indexed(&with_short_edge).expect("valid");
     let report = improve(&mut mesh, &strict).expect("improve");
-    assert_eq!(report.collapses, 0);
+    assert_eq!(report.collapses + report.merges, 0);
     let short = report
         .unfixed
         .iter()
         .find(|u| u.problem == Problem::ShortEdge)
         .expect("the short edge is reported");
-    assert!(
-        short
-            .refusals
-            .contains(&(Operation::Collapse, Refusal::Deviation))
-    );
+    for operation in [Operation::Merge, Operation::Collapse] {
+        assert!(short.refusals.contains(&(operation, Refusal::Deviation)));
+    }
 
     let mut mesh = Mesh::from_indexed(&with_short_edge).expect("valid");
     let report = improve(&mut mesh, &ImproveParams::new(l)).expect("improve");
-    assert!(report.collapses >= 1, "the default limit allows the fix");
+    assert!(
+        report.collapses + report.merges >= 1,
+        "the default limit allows the fix"
+    );
     assert!(report.unfixed.is_empty(), "{:?}", report.unfixed);
     let moved = one_sided_hausdorff(&mesh.to_indexed(), &with_short_edge);
     assert!(moved > 0.0 && moved <= 2.0 * 0.0225 * l, "moved {moved}");
+}
+
+#[test]
+fn a_vertex_split_off_near_an_end_is_merged_back_into_the_older_end() {
+    // Splitting an edge of a good mesh at a tenth leaves one short edge; merging its new end into
+    // the old one restores the mesh exactly, re-sampling nothing the input had.
+    let input = IndexedMesh::icosphere(Vec3::new(0.5, -1.0, 2.0), 1.5, 2);
+    let l = input.mean_edge_length();
+    let mut mesh = Mesh::from_indexed(&input).expect("valid");
+    let h = mesh.edges().nth(7).expect("an edge");
+    mesh.split_edge(h, 0.1).expect("split");
+    mesh.record_mutations();
+    let report = improve(&mut mesh, &ImproveParams::new(l)).expect("improve");
+    assert_eq!((report.merges, report.collapses, report.splits), (1, 0, 0));
+    assert!(report.unfixed.is_empty(), "{:?}", report.unfixed);
+    let mut output = mesh.to_indexed();
+    output.ids = None;
+    let mut expected = input.clone();
+    expected.ids = None;
+    assert_eq!(output.positions, expected.positions);
+    let sorted = |m: &IndexedMesh| {
+        let mut t: Vec<[u32; 3]> = m
+            .triangles
+            .iter()
+            .map(|&[a, b, c]| {
+                let k = [a, b, c]
+                    .iter()
+                    .position(|&x| x == a.min(b).min(c))
+                    .unwrap_or(0);
+                [[a, b, c][k], [a, b, c][(k + 1) % 3], [a, b, c][(k + 2) % 3]]
+            })
+            .collect();
+        t.sort_unstable();
+        t
+    };
+    assert_eq!(sorted(&output), sorted(&expected));
 }
 
 #[test]

@@ -1,4 +1,4 @@
-//! Randomized mutations: after every single split, collapse and flip the mesh still validates, ids are
+//! Randomized mutations: after every single split, collapse, merge and flip the mesh still validates, ids are
 //! never reused, the journal names what happened, and topology (χ per component) never changes.
 
 use glam::Vec3;
@@ -39,10 +39,10 @@ fn exercise(input: &IndexedMesh, seed: u64, operations: usize) {
     let mut rng = Rng(seed);
     let mut seen_ids: std::collections::HashSet<u64> =
         mesh.vertices().map(|v| mesh.id(v)).collect();
-    let mut applied = [0usize; 4];
+    let mut applied = [0usize; 5];
     for step in 0..operations {
         let h = random_edge(&mesh, &mut rng);
-        let kind = rng.below(4);
+        let kind = rng.below(5);
         let done = match kind {
             0 => mesh.split_edge(h, 0.2 + 0.6 * rng.unit()).is_some(),
             1 => {
@@ -53,6 +53,15 @@ fn exercise(input: &IndexedMesh, seed: u64, operations: usize) {
             2 => {
                 let mid = (mesh.position(mesh.origin(h)) + mesh.position(mesh.target(h))) * 0.5;
                 mesh.collapse(h, mid).is_some()
+            }
+            3 => {
+                let (kept, at) = (mesh.origin(h), mesh.position(mesh.origin(h)));
+                let merged = mesh.merge(h);
+                if let Some(v) = merged {
+                    assert_eq!(v, kept, "a merge keeps the origin's slot");
+                    assert_eq!(mesh.position(v), at, "and its position");
+                }
+                merged.is_some()
             }
             _ => mesh.flip(h).is_some(),
         };
@@ -71,6 +80,11 @@ fn exercise(input: &IndexedMesh, seed: u64, operations: usize) {
                 Mutation::SplitEdge { created, .. }
                 | Mutation::SplitFace { created, .. }
                 | Mutation::Collapse { created, .. } => Some(created),
+                Mutation::Merge { kept, removed } => {
+                    assert!(mesh.vertices().any(|v| mesh.id(v) == kept), "kept {kept}");
+                    assert!(mesh.vertices().all(|v| mesh.id(v) != removed));
+                    None
+                }
                 Mutation::Flip { .. } => None,
                 Mutation::PatchCreated { .. } | Mutation::PatchDeleted { .. } => {
                     panic!("a local mutation journaled a patch record")
@@ -132,6 +146,7 @@ fn collapse_refuses_when_the_link_condition_fails() {
     let mut mesh = Mesh::from_indexed(&tet).unwrap();
     for h in 0..12 {
         assert_eq!(mesh.collapse(HalfEdgeId(h), Vec3::splat(0.3)), None);
+        assert_eq!(mesh.merge(HalfEdgeId(h)), None);
         assert_eq!(mesh.flip(HalfEdgeId(h)), None);
     }
     assert_eq!(mesh.validate(), Ok(()));

@@ -182,6 +182,55 @@ fn backward_through_a_collapse_gives_both_ends_the_merged_value() {
 }
 
 #[test]
+fn a_merge_keeps_the_kept_ends_value_and_gives_it_to_the_removed_end_going_backward() {
+    let dir = tempfile::tempdir().unwrap();
+    let start = start_mesh();
+    let mut mesh = surftrack::mesh::Mesh::from_indexed(&start).unwrap();
+    mesh.record_mutations();
+    let h = mesh.edges().next().unwrap();
+    let (a, b) = (mesh.origin(h), mesh.target(h));
+    let (ida, idb) = (mesh.id(a), mesh.id(b));
+    assert_eq!(mesh.merge(h), Some(a));
+    write_frame(dir.path(), 0, &start);
+    write_events(dir.path(), 1, &EventList::drain(&mut mesh));
+    let end = mesh.to_indexed();
+    write_frame(dir.path(), 1, &end);
+    let value = |id: u64| if id == ida { 5.0 } else { 1.0 };
+    let start_ids = start.ids.clone().unwrap();
+    let forward = carried(
+        dir.path(),
+        Direction::Forward,
+        &[Attribute {
+            name: "s".to_string(),
+            components: 1,
+            values: start_ids.iter().map(|&id| value(id)).collect(),
+        }],
+    );
+    let (_, last) = &forward[1];
+    let (_, got) = channel(last, "s");
+    for (id, v) in last.ids.as_ref().unwrap().iter().zip(got) {
+        assert_ne!(*id, idb, "the removed end is gone");
+        assert_eq!(v, [value(*id)], "vertex {id} keeps its value");
+    }
+    let end_ids = end.ids.as_ref().unwrap();
+    let backward = carried(
+        dir.path(),
+        Direction::Backward,
+        &[Attribute {
+            name: "s".to_string(),
+            components: 1,
+            values: end_ids.iter().map(|&id| value(id)).collect(),
+        }],
+    );
+    let (_, first) = &backward[1];
+    let (_, got) = channel(first, "s");
+    for (id, v) in first.ids.as_ref().unwrap().iter().zip(got) {
+        let want = if *id == idb { 5.0 } else { value(*id) };
+        assert_eq!(v, [want], "vertex {id}");
+    }
+}
+
+#[test]
 fn broken_sequences_are_reported_with_their_file() {
     let dir = tempfile::tempdir().unwrap();
     write_sequence(dir.path(), 3, Ops::All, 40, 5);

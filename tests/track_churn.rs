@@ -62,7 +62,7 @@ fn churn_accounts_for_every_vertex_of_every_frame() {
                 let collapses = count(&[EventKind::Collapse]);
                 assert_eq!(
                     removed,
-                    2 * collapses + count(&[EventKind::PatchDeleted]),
+                    2 * collapses + count(&[EventKind::Merge, EventKind::PatchDeleted]),
                     "frame {}: removed",
                     log.frame
                 );

@@ -291,7 +291,7 @@ fn log_line(log: &FrameLog) -> String {
     let t = &log.times;
     let r = &log.reconciled;
     format!(
-        "frame {:4}: {:7} verts{} | split {} face {} collapse {} patch +{} -{} | components +{} -{} replaced {} grafted {} | lost: improve {} topology {}+{} sub-grid {} | residual {:.3} L (max {:.2}){} | register {:.0} improve {:.0} topology {:.0}+{:.0} reconcile {:.0} total {:.0} ms",
+        "frame {:4}: {:7} verts{} | split {} face {} collapse {} merge {} patch +{} -{} | components +{} -{} replaced {} grafted {} | lost: improve {} topology {}+{} sub-grid {} | residual {:.3} L (max {:.2}){} | register {:.0} improve {:.0} topology {:.0}+{:.0} reconcile {:.0} total {:.0} ms",
         log.frame,
         log.vertices,
         log.carried
@@ -300,6 +300,7 @@ fn log_line(log: &FrameLog) -> String {
         e.split_edge,
         e.split_face,
         e.collapse,
+        e.merge,
         e.patch_created,
         e.patch_deleted,
         r.inserted,

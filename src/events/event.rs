@@ -9,6 +9,8 @@ pub enum EventKind {
     SplitEdge,
     SplitFace,
     Collapse,
+    /// An edge merged into one of its ends, which keeps its data (improvement's cheaper collapse).
+    Merge,
     /// A vertex created inside a patch of new geometry after a topology change (paper §4.4).
     PatchCreated,
     /// A vertex deleted inside a patch destroyed by a topological merge (paper §4.4).
@@ -69,6 +71,18 @@ impl Event {
         }
     }
 
+    /// `({kept, removed}, {kept}, null, removed := kept)`: the kept end keeps its values going
+    /// forward, and the removed one takes them going backward.
+    pub fn merge(kept: u64, removed: u64) -> Self {
+        Self {
+            kind: EventKind::Merge,
+            inputs: vec![kept, removed],
+            outputs: vec![kept],
+            forward: Vec::new(),
+            backward: vec![Assignment::copy(removed, kept)],
+        }
+    }
+
     /// A vertex created in a patch of new geometry: `(boundary, boundary ∪ {new}, new := Σ w·b, null)`,
     /// the weights being the breadth-first boundary averages of §4.4. An empty `boundary` (nothing
     /// survives to take data from) gives `(∅, {new}, null, null)`.
@@ -107,6 +121,7 @@ impl Event {
                 weights,
             } => Some(Self::split_face(corners, created, weights)),
             &Mutation::Collapse { a, b, created } => Some(Self::collapse(a, b, created)),
+            &Mutation::Merge { kept, removed } => Some(Self::merge(kept, removed)),
             Mutation::PatchCreated { created, sources } => {
                 Some(Self::patch_created(*created, sources.clone()))
             }

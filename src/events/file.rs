@@ -71,6 +71,7 @@ fn kind_code(kind: EventKind) -> u32 {
         EventKind::Collapse => 2,
         EventKind::PatchCreated => 3,
         EventKind::PatchDeleted => 4,
+        EventKind::Merge => 5,
     }
 }
 
@@ -81,6 +82,7 @@ fn kind_from(code: u32) -> Option<EventKind> {
         2 => EventKind::Collapse,
         3 => EventKind::PatchCreated,
         4 => EventKind::PatchDeleted,
+        5 => EventKind::Merge,
         _ => return None,
     })
 }

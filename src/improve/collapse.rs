@@ -8,7 +8,7 @@
 
 use super::deviation::within;
 use super::diamond::diamond;
-use super::geometry::{face_normal, fold, folds_worse, reliable_normal};
+use super::geometry::{face_normal, fold, folds_worse, min_angle, reliable_normal};
 use super::params::Limits;
 use super::report::Refusal;
 use crate::mesh::{HalfEdgeId, Mesh, VertexId};
@@ -31,6 +31,27 @@ struct FanFace {
 /// refused only when the collapse makes the neighbourhood's sharpest fold sharper: without both rules
 /// a zero-length edge between two slivers could never be collapsed.
 pub(super) fn check_collapse(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<(), Refusal> {
+    let m = (mesh.position(mesh.origin(h)) + mesh.position(mesh.target(h))) * 0.5;
+    check_contraction(mesh, h, m, limits, false)
+}
+
+/// Whether the edge of `h` may be merged into its origin, which stays where it is. A merge keeps
+/// one end's id where the paper's collapse re-samples both, so it is tried first. It must pass the
+/// collapse's checks (with the kept end where it is) and leave nothing for the queue behind: no
+/// angle below the limit, no edge shorter than the collapse threshold and no fold past the
+/// dihedral limit, so a merge never starts a cascade. Otherwise the paper's collapse serves.
+pub(super) fn check_merge(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result<(), Refusal> {
+    check_contraction(mesh, h, mesh.position(mesh.origin(h)), limits, true)
+}
+
+/// The checks of a collapse of the edge of `h` to a vertex at `m`; `merge` adds a merge's.
+fn check_contraction(
+    mesh: &Mesh,
+    h: HalfEdgeId,
+    m: Vec3,
+    limits: &Limits,
+    merge: bool,
+) -> Result<(), Refusal> {
     let t = mesh.twin(h);
     let [a, b, c, d] = diamond(mesh, h);
     if mesh.valence(c) <= 3 || mesh.valence(d) <= 3 {
@@ -41,7 +62,6 @@ pub(super) fn check_collapse(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Res
     if shared != 2 {
         return Err(Refusal::LinkCondition);
     }
-    let m = (mesh.position(a) + mesh.position(b)) * 0.5;
     let (fa, fb) = (mesh.face(h), mesh.face(t));
     let star: Vec<HalfEdgeId> = mesh.outgoing(a).chain(mesh.outgoing(b)).collect();
     let mut region: Option<Vec3> = None;
@@ -68,8 +88,15 @@ pub(super) fn check_collapse(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Res
         if normal.dot(reference) <= 0.0 {
             return Err(Refusal::NormalFlip);
         }
-        if m.distance(new[1]) > limits.max_edge {
+        let length = m.distance(new[1]);
+        if length > limits.max_edge {
             return Err(Refusal::LongEdge);
+        }
+        if merge && length < limits.min_edge {
+            return Err(Refusal::ShortEdge);
+        }
+        if merge && min_angle(new) < limits.min_angle {
+            return Err(Refusal::SmallAngle);
         }
         let beyond = mesh.face_positions(mesh.face(mesh.twin(mesh.next(e))));
         fan.push(FanFace {
@@ -87,6 +114,9 @@ pub(super) fn check_collapse(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Res
         for other in [f.outside, next] {
             after = after.max(fold(own, other).unwrap_or(-1.0));
         }
+    }
+    if merge && after > limits.cos_min_dihedral {
+        return Err(Refusal::SharpDihedral);
     }
     // The folds before the collapse matter only when the new ones pass the limit.
     if after > limits.cos_min_dihedral

@@ -1,11 +1,12 @@
 //! Fixing short edges, small angles and sharp dihedral angles, worst first. Each bad element has a
 //! short list of candidate operations, tried in order until one passes its checks: a flip first where
-//! it can help (it re-samples nothing), then the paper's collapse (§4.1), then collapses that remove
+//! it can help (it re-samples nothing), then a merge of a short edge into one of its ends (it
+//! re-samples that end alone), then the paper's collapse (§4.1), then collapses that remove
 //! one end of a short edge along a flatter direction, and last a split that halves an over-long edge
 //! of a badly proportioned triangle. After an operation the faces it created are examined again, so
 //! new problems join the queue.
 
-use super::collapse::check_collapse;
+use super::collapse::{check_collapse, check_merge};
 use super::flip::check_flip;
 use super::params::Limits;
 use super::queue::{Kind, Queue, Task};
@@ -19,6 +20,8 @@ use crate::mesh::{FaceId, HalfEdgeId, Mesh};
 pub(super) enum Fix {
     Flip(HalfEdgeId),
     Collapse(HalfEdgeId),
+    /// Merge into the origin of the half-edge.
+    Merge(HalfEdgeId),
     Split(HalfEdgeId),
 }
 
@@ -27,6 +30,7 @@ impl Fix {
         match self {
             Fix::Flip(_) => Operation::Flip,
             Fix::Collapse(_) => Operation::Collapse,
+            Fix::Merge(_) => Operation::Merge,
             Fix::Split(_) => Operation::Split,
         }
     }
@@ -44,7 +48,9 @@ pub(super) fn candidates<'a>(
     let later = |e: HalfEdgeId| std::iter::once(()).flat_map(move |()| removals(mesh, e, limits));
     match task.kind {
         Kind::ShortEdge => Box::new(
-            std::iter::once(Fix::Collapse(h))
+            merges(mesh, h)
+                .into_iter()
+                .chain(std::iter::once(Fix::Collapse(h)))
                 .chain(later(h))
                 .chain([h, mesh.twin(h)].map(|e| Fix::Split(longest_edge(mesh, e)))),
         ),
@@ -54,8 +60,9 @@ pub(super) fn candidates<'a>(
             edges.sort_by(|&x, &y| length(mesh, x).total_cmp(&length(mesh, y)));
             let [shortest, middle, longest] = edges;
             Box::new(
-                [Fix::Flip(longest), Fix::Collapse(shortest)]
-                    .into_iter()
+                std::iter::once(Fix::Flip(longest))
+                    .chain(merges(mesh, shortest))
+                    .chain(std::iter::once(Fix::Collapse(shortest)))
                     .chain(later(shortest))
                     .chain([
                         Fix::Collapse(middle),
@@ -64,6 +71,17 @@ pub(super) fn candidates<'a>(
                     ]),
             )
         }
+    }
+}
+
+/// The two merges of the edge of `h`, keeping the older end (the smaller id) first: a short edge
+/// one of whose ends must go costs that end alone, and the end that has been tracked longer stays.
+fn merges(mesh: &Mesh, h: HalfEdgeId) -> [Fix; 2] {
+    let t = mesh.twin(h);
+    if mesh.id(mesh.origin(h)) < mesh.id(mesh.origin(t)) {
+        [Fix::Merge(h), Fix::Merge(t)]
+    } else {
+        [Fix::Merge(t), Fix::Merge(h)]
     }
 }
 
@@ -109,6 +127,7 @@ pub(super) fn check(mesh: &Mesh, fix: Fix, limits: &Limits) -> Result<(), Refusa
     match fix {
         Fix::Flip(h) => check_flip(mesh, h, limits),
         Fix::Collapse(h) => check_collapse(mesh, h, limits),
+        Fix::Merge(h) => check_merge(mesh, h, limits),
         Fix::Split(h) => check_split(mesh, h, limits),
     }
 }
@@ -128,6 +147,10 @@ fn apply(mesh: &mut Mesh, fix: Fix, report: &mut ImproveReport) -> Option<Vec<Fa
                 mesh.outgoing(m).map(|e| mesh.face(e)).collect()
             })
         }
+        Fix::Merge(h) => mesh.merge(h).map(|m| {
+            report.merges += 1;
+            mesh.outgoing(m).map(|e| mesh.face(e)).collect()
+        }),
         Fix::Split(h) => mesh.split_edge(h, 0.5).map(|m| {
             report.splits += 1;
             mesh.outgoing(m).map(|e| mesh.face(e)).collect()
@@ -155,6 +178,14 @@ pub(super) fn fix_bad_elements(
 ) -> usize {
     let mut queue = Queue::new(scan(mesh, limits));
     let budget = OPERATIONS_PER_FACE * mesh.face_count() + 64;
+    // A merge may not remove a vertex this pass created: a last-resort split beside an edge that
+    // cannot be fixed, undone by a merge that sees only its own fan, would otherwise repeat until
+    // the budget ran out.
+    let fresh = mesh.next_id();
+    let removes_fresh = |mesh: &Mesh, fix: Fix| match fix {
+        Fix::Merge(h) => mesh.id(mesh.target(h)) >= fresh,
+        Fix::Flip(_) | Fix::Collapse(_) | Fix::Split(_) => false,
+    };
     let mut done = 0;
     while done < budget
         && let Some(task) = queue.pop()
@@ -166,9 +197,10 @@ pub(super) fn fix_bad_elements(
             continue;
         }
         let chosen = candidates(mesh, &task, h, limits).find(|&fix| {
-            check(mesh, fix, limits)
-                .map_err(|reason| report.refused(reason))
-                .is_ok()
+            !removes_fresh(mesh, fix)
+                && check(mesh, fix, limits)
+                    .map_err(|reason| report.refused(reason))
+                    .is_ok()
         });
         if let Some(faces) = chosen.and_then(|fix| apply(mesh, fix, report)) {
             done += 1;

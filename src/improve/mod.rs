@@ -1,6 +1,8 @@
 //! Mesh improvement (paper §4.1): split edges that are too long, collapse edges that are too short or
 //! that belong to a triangle with too small an angle or to too sharp a fold, and flip edges where that
-//! raises the smallest angle without moving the surface (thesis §3.2.1).
+//! raises the smallest angle without moving the surface (thesis §3.2.1). A short edge is merged into
+//! one of its ends rather than collapsed to its midpoint wherever that leaves nothing to fix, so
+//! removing a vertex re-samples one vertex rather than two.
 //!
 //! Improvement is *conservative*: only elements that break a criterion are touched, so a mesh that
 //! meets them all is left exactly as it is and records no event — every re-sampled vertex costs

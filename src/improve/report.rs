@@ -21,6 +21,8 @@ pub enum Refusal {
     ShortEdge,
     /// Two faces would meet at a dihedral angle below the minimum.
     SharpDihedral,
+    /// A face would have an angle below the minimum (a merge must leave none behind).
+    SmallAngle,
     /// The surface would move farther than `max_deviation`.
     Deviation,
 }
@@ -30,6 +32,7 @@ pub enum Refusal {
 pub enum Operation {
     Flip,
     Collapse,
+    Merge,
     Split,
 }
 
@@ -59,6 +62,7 @@ pub struct Unfixed {
 pub struct ImproveReport {
     pub splits: usize,
     pub collapses: usize,
+    pub merges: usize,
     pub flips: usize,
     pub rounds: usize,
     /// False when `max_rounds` ran out while rounds were still changing the mesh.
@@ -70,9 +74,9 @@ pub struct ImproveReport {
 }
 
 impl ImproveReport {
-    /// Splits, collapses and flips performed.
+    /// Splits, collapses, merges and flips performed.
     pub fn operations(&self) -> usize {
-        self.splits + self.collapses + self.flips
+        self.splits + self.collapses + self.merges + self.flips
     }
 
     pub(super) fn refused(&mut self, reason: Refusal) {

@@ -1,7 +1,11 @@
 //! Edge splits at the midpoint (paper §4.1), which never move the surface: every edge longer than the
 //! limit, longest first — the two halves of an edge just past the limit are at least `L` long, above
 //! the collapse threshold — and, as a last resort, the longest edge of a badly proportioned triangle.
+//! A long edge whose flip passes the flip's checks (thesis §3.2.1) is flipped instead: where
+//! registration shears the mesh, the other diagonal of the pair is short enough, and a flip
+//! re-samples no vertex.
 
+use super::flip::check_flip;
 use super::geometry::fails;
 use super::params::Limits;
 use super::report::{ImproveReport, Refusal};
@@ -43,6 +47,12 @@ pub(super) fn split_long_edges(
             continue;
         };
         if key(mesh, h) != Some(edge) {
+            continue;
+        }
+        // The other diagonal re-samples nothing: a flip serves where it passes its checks, which
+        // include a new edge within the limit.
+        if check_flip(mesh, h, limits).is_ok() && mesh.flip(h).is_some() {
+            report.flips += 1;
             continue;
         }
         let Some(m) = mesh.split_edge(h, 0.5) else {

@@ -1,4 +1,4 @@
-//! Local mutations: edge split, face split, edge collapse, edge flip (paper §4.1).
+//! Local mutations: edge split, face split, edge collapse, edge merge, edge flip (paper §4.1).
 //!
 //! Each one states its precondition, refuses (returns `None`) when the result would not be a closed
 //! 2-manifold with non-degenerate faces, and otherwise rewrites only the faces around the edge through
@@ -74,6 +74,46 @@ impl Mesh {
     /// §3.2.2), when an opposite vertex would drop below valence 3 (a tetrahedron), or when a remaining
     /// face would become degenerate. Folding checks are the caller's (mesh improvement).
     pub fn collapse(&mut self, h: HalfEdgeId, position: Vec3) -> Option<VertexId> {
+        let (a, b) = (self.origin(h), self.target(h));
+        let (region, tris) = self.contraction(h, position)?;
+        let (ida, idb) = (self.id(a), self.id(b));
+        let m = self.alloc_vertex(position, &[(a, 0.5), (b, 0.5)]);
+        let tris: Vec<[VertexId; 3]> = tris
+            .iter()
+            .map(|tri| tri.map(|v| if v == a { m } else { v }))
+            .collect();
+        self.rewrite(&region, &tris);
+        self.free_vertex(a);
+        self.free_vertex(b);
+        self.log(|mesh| Mutation::Collapse {
+            a: ida,
+            b: idb,
+            created: mesh.id(m),
+        });
+        Some(m)
+    }
+
+    /// Merges the edge of `h` into its origin: the target is removed and the origin keeps its
+    /// position, id and attributes. Where a collapse re-samples both ends, a merge re-samples one
+    /// and creates nothing, so a vertex that improvement must remove costs one vertex of coherence
+    /// rather than two plus a new one. Refused in the same cases as [`Mesh::collapse`].
+    pub fn merge(&mut self, h: HalfEdgeId) -> Option<VertexId> {
+        let (a, b) = (self.origin(h), self.target(h));
+        let (region, tris) = self.contraction(h, self.position(a))?;
+        let (kept, removed) = (self.id(a), self.id(b));
+        self.rewrite(&region, &tris);
+        self.free_vertex(b);
+        self.log(|_| Mutation::Merge { kept, removed });
+        Some(a)
+    }
+
+    /// The faces around the edge of `h` and what they become when its target is renamed to its
+    /// origin, placed at `position`; `None` when that would break the manifold (see `collapse`).
+    fn contraction(
+        &self,
+        h: HalfEdgeId,
+        position: Vec3,
+    ) -> Option<(Vec<FaceId>, Vec<[VertexId; 3]>)> {
         let t2 = self.twin(h);
         let (a, b) = (self.origin(h), self.target(h));
         let c = self.origin(self.prev(h));
@@ -106,21 +146,7 @@ impl Mesh {
         {
             return None;
         }
-        let (ida, idb) = (self.id(a), self.id(b));
-        let m = self.alloc_vertex(position, &[(a, 0.5), (b, 0.5)]);
-        let tris: Vec<[VertexId; 3]> = tris
-            .iter()
-            .map(|tri| tri.map(|v| if v == a { m } else { v }))
-            .collect();
-        self.rewrite(&region, &tris);
-        self.free_vertex(a);
-        self.free_vertex(b);
-        self.log(|mesh| Mutation::Collapse {
-            a: ida,
-            b: idb,
-            created: mesh.id(m),
-        });
-        Some(m)
+        Some((region, tris))
     }
 
     /// Flips the edge of `h` (between faces `(a,b,c)` and `(b,a,d)`) to the edge `(c, d)`. `None` when

@@ -20,6 +20,9 @@ pub enum Mutation {
     },
     /// Edge `(a, b)` collapsed: both removed, `created := (a + b) / 2`, and backwards `a := b := created`.
     Collapse { a: u64, b: u64, created: u64 },
+    /// Edge `(kept, removed)` merged into `kept`, which keeps its position and data; backwards
+    /// `removed := kept`.
+    Merge { kept: u64, removed: u64 },
     /// Edge `(a, b)` flipped to `(c, d)`: connectivity only, no vertex created or removed.
     Flip { a: u64, b: u64, c: u64, d: u64 },
     /// A vertex created inside a replaced patch (paper §4.4): `created := Σ w·source` over
@@ -49,7 +52,7 @@ impl Mutation {
             } => Some((*created, corners.iter().copied().zip(*weights).collect())),
             Mutation::Collapse { a, b, created } => Some((*created, vec![(*a, 0.5), (*b, 0.5)])),
             Mutation::PatchCreated { created, sources } => Some((*created, sources.clone())),
-            Mutation::Flip { .. } | Mutation::PatchDeleted { .. } => None,
+            Mutation::Merge { .. } | Mutation::Flip { .. } | Mutation::PatchDeleted { .. } => None,
         }
     }
 
@@ -57,6 +60,7 @@ impl Mutation {
     pub(crate) fn removed(&self) -> Vec<u64> {
         match self {
             Mutation::Collapse { a, b, .. } => vec![*a, *b],
+            Mutation::Merge { removed, .. } => vec![*removed],
             Mutation::PatchDeleted { deleted, .. } => vec![*deleted],
             _ => Vec::new(),
         }

@@ -27,7 +27,12 @@ impl<'a> Summary<'a> {
                 .iter()
                 .map(|f| {
                     let e = &f.events;
-                    e.split_edge + e.split_face + e.collapse + e.patch_created + e.patch_deleted
+                    e.split_edge
+                        + e.split_face
+                        + e.collapse
+                        + e.merge
+                        + e.patch_created
+                        + e.patch_deleted
                 })
                 .sum(),
             topology_changes: per_frame.iter().filter(|f| f.topology_changed).count(),

@@ -151,6 +151,8 @@ pub struct EventCounts {
     pub split_edge: usize,
     pub split_face: usize,
     pub collapse: usize,
+    #[serde(default)]
+    pub merge: usize,
     pub patch_created: usize,
     pub patch_deleted: usize,
 }
@@ -163,6 +165,7 @@ impl EventCounts {
                 EventKind::SplitEdge => &mut c.split_edge,
                 EventKind::SplitFace => &mut c.split_face,
                 EventKind::Collapse => &mut c.collapse,
+                EventKind::Merge => &mut c.merge,
                 EventKind::PatchCreated => &mut c.patch_created,
                 EventKind::PatchDeleted => &mut c.patch_deleted,
             } += 1;

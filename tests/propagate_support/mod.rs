@@ -40,7 +40,7 @@ impl Rng {
 pub enum Ops {
     /// Edge splits, face splits and flips: nothing is removed.
     Refine,
-    /// Splits, flips and collapses.
+    /// Splits, flips, collapses and merges.
     All,
 }
 
@@ -82,7 +82,7 @@ pub fn mutate(mesh: &mut Mesh, rng: &mut Rng, ops: Ops, count: usize) -> (usize,
     while done < count {
         let edges: Vec<_> = mesh.edges().collect();
         let h = edges[rng.below(edges.len())];
-        let choice = rng.below(if ops == Ops::All { 4 } else { 3 });
+        let choice = rng.below(if ops == Ops::All { 5 } else { 3 });
         let ok = match choice {
             0 => mesh.split_edge(h, 0.2 + 0.6 * rng.unit()).is_some(),
             1 => {
@@ -93,7 +93,7 @@ pub fn mutate(mesh: &mut Mesh, rng: &mut Rng, ops: Ops, count: usize) -> (usize,
                 mesh.split_face(f, [a, b, 1.0 - a - b]).is_some()
             }
             2 => mesh.flip(h).is_some(),
-            _ => {
+            3 => {
                 let mid = (mesh.position(mesh.origin(h)) + mesh.position(mesh.target(h))) * 0.5;
                 let ok = mesh.collapse(h, mid).is_some();
                 if ok {
@@ -101,10 +101,17 @@ pub fn mutate(mesh: &mut Mesh, rng: &mut Rng, ops: Ops, count: usize) -> (usize,
                 }
                 ok
             }
+            _ => {
+                let ok = mesh.merge(h).is_some();
+                if ok {
+                    removed += 1;
+                }
+                ok
+            }
         };
         if ok {
             done += 1;
-            created += usize::from(choice != 2);
+            created += usize::from(choice != 2 && choice != 4);
         }
     }
     let shift = Vec3::new(0.01, -0.005, 0.002);

@@ -22,7 +22,10 @@ pub fn patch_vertices(events: &EventList) -> FxHashSet<u64> {
         let created = event.outputs.iter().filter(|id| !event.inputs.contains(id));
         let inside = match event.kind {
             EventKind::PatchCreated => true,
-            EventKind::SplitEdge | EventKind::SplitFace | EventKind::Collapse => {
+            EventKind::SplitEdge
+            | EventKind::SplitFace
+            | EventKind::Collapse
+            | EventKind::Merge => {
                 !event.inputs.is_empty() && event.inputs.iter().all(|id| patch.contains(id))
             }
             EventKind::PatchDeleted => false,
