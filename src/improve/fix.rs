@@ -14,6 +14,7 @@ use super::report::{ImproveReport, Operation, Refusal};
 use super::scan::{edge_tasks, face_task, rescan, scan};
 use super::split::check_split;
 use crate::mesh::{FaceId, HalfEdgeId, Mesh};
+use rustc_hash::FxHashSet;
 
 /// One candidate operation on an edge.
 #[derive(Debug, Clone, Copy)]
@@ -178,13 +179,19 @@ pub(super) fn fix_bad_elements(
 ) -> usize {
     let mut queue = Queue::new(scan(mesh, limits));
     let budget = OPERATIONS_PER_FACE * mesh.face_count() + 64;
-    // A merge may not remove a vertex this pass created: a last-resort split beside an edge that
-    // cannot be fixed, undone by a merge that sees only its own fan, would otherwise repeat until
-    // the budget ran out.
+    // A merge never removes a vertex this pass created, nor a collapse one this pass's last-resort
+    // splits created; the next round may. Such a split beside an edge that cannot be fixed, undone
+    // by a merge or collapse that sees only its own fan, would otherwise repeat until the budget ran
+    // out (on real fluid frames, hundreds of thousands of times). Vertices other collapses
+    // created stay free to go: holding them back to the next round costs coherence.
     let fresh = mesh.next_id();
-    let removes_fresh = |mesh: &Mesh, fix: Fix| match fix {
+    let mut split: FxHashSet<u64> = FxHashSet::default();
+    let removes_fresh = |mesh: &Mesh, fix: Fix, split: &FxHashSet<u64>| match fix {
         Fix::Merge(h) => mesh.id(mesh.target(h)) >= fresh,
-        Fix::Flip(_) | Fix::Collapse(_) | Fix::Split(_) => false,
+        Fix::Collapse(h) => [mesh.origin(h), mesh.target(h)]
+            .iter()
+            .any(|v| split.contains(&mesh.id(*v))),
+        Fix::Flip(_) | Fix::Split(_) => false,
     };
     let mut done = 0;
     while done < budget
@@ -197,13 +204,16 @@ pub(super) fn fix_bad_elements(
             continue;
         }
         let chosen = candidates(mesh, &task, h, limits).find(|&fix| {
-            !removes_fresh(mesh, fix)
+            !removes_fresh(mesh, fix, &split)
                 && check(mesh, fix, limits)
                     .map_err(|reason| report.refused(reason))
                     .is_ok()
         });
         if let Some(faces) = chosen.and_then(|fix| apply(mesh, fix, report)) {
             done += 1;
+            if let Some(Fix::Split(_)) = chosen {
+                split.insert(mesh.next_id() - 1);
+            }
             rescan(mesh, &faces, limits, &mut |t| queue.push(t));
         }
     }
