@@ -1,7 +1,7 @@
 //! Fixing short edges, small angles and sharp dihedral angles, worst first. Each bad element has a
 //! short list of candidate operations, tried in order until one passes its checks: a flip first where
-//! it can help (it re-samples nothing), then a merge of a short edge into one of its ends (it
-//! re-samples that end alone), then the paper's collapse (§4.1), then collapses that remove
+//! it can help (it re-samples nothing), then a merge of the short or sharply folded edge into one of
+//! its ends (it re-samples that end alone), then the paper's collapse (§4.1), then collapses that remove
 //! one end of a short edge along a flatter direction, and last a split that halves an over-long edge
 //! of a badly proportioned triangle. After an operation the faces it created are examined again, so
 //! new problems join the queue.
@@ -55,7 +55,11 @@ pub(super) fn candidates<'a>(
                 .chain(later(h))
                 .chain([h, mesh.twin(h)].map(|e| Fix::Split(longest_edge(mesh, e)))),
         ),
-        Kind::SharpDihedral => Box::new([Fix::Collapse(h), Fix::Flip(h)].into_iter()),
+        Kind::SharpDihedral => Box::new(
+            merges(mesh, h)
+                .into_iter()
+                .chain([Fix::Collapse(h), Fix::Flip(h)]),
+        ),
         Kind::SmallAngle => {
             let mut edges = [h, mesh.next(h), mesh.prev(h)];
             edges.sort_by(|&x, &y| length(mesh, x).total_cmp(&length(mesh, y)));
