@@ -281,10 +281,25 @@ fn grow_graft(
                             continue;
                         }
                         // The rim may cut through a selected difference: the region grows by
-                        // one around all of them first, which keeps the graft local.
+                        // one around all of them first, which keeps the graft local. Where the
+                        // region is a sheet, that growth doubles it (dam-break frame 36: 8,084 →
+                        // 18,972 cells, then the whole main body): where growing around the samples
+                        // farther than half the bound (see below) adds fewer cells, the region
+                        // grows there instead, and the rims later if that does not mend it.
                         None if !rimmed => {
-                            rimmed = true;
-                            region.clone()
+                            let (part, joined, (_, left)) = measured(&graft, ours.mesh, theirs);
+                            let far = cells(suspected(&mut halvings, bounds, |distance| {
+                                far_apart((&joined, &left, &part), bounds, distance)
+                            })?);
+                            let (mut by_far, mut by_rims) = (region.clone(), region.clone());
+                            grow(&mut by_far, &far);
+                            grow(&mut by_rims, &region);
+                            if !far.is_empty() && by_far.len() < by_rims.len() {
+                                far
+                            } else {
+                                rimmed = true;
+                                region.clone()
+                            }
                         }
                         // The selected clusters are not all the difference: every cluster joins.
                         None if !widened => {
