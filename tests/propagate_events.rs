@@ -146,22 +146,34 @@ fn backward_undoes_forward_when_nothing_is_removed() {
     }
 }
 
-#[test]
-fn backward_through_a_collapse_gives_both_ends_the_merged_value() {
-    let dir = tempfile::tempdir().unwrap();
+/// Writes a two-frame sequence into `dir`: [`start_mesh`], then the same after `change` of its
+/// first edge, which returns the id of the vertex it creates or keeps. Returns the edge's ends'
+/// ids, that id and both frames.
+fn one_change(
+    dir: &Path,
+    change: impl FnOnce(&mut surftrack::mesh::Mesh, surftrack::mesh::HalfEdgeId) -> u64,
+) -> ((u64, u64), u64, IndexedMesh, IndexedMesh) {
     let start = start_mesh();
     let mut mesh = surftrack::mesh::Mesh::from_indexed(&start).unwrap();
     mesh.record_mutations();
     let h = mesh.edges().next().unwrap();
-    let (a, b) = (mesh.origin(h), mesh.target(h));
-    let (ida, idb) = (mesh.id(a), mesh.id(b));
-    let mid = (mesh.position(a) + mesh.position(b)) * 0.5;
-    let merged = mesh.collapse(h, mid).unwrap();
-    let merged_id = mesh.id(merged);
-    write_frame(dir.path(), 0, &start);
-    write_events(dir.path(), 1, &EventList::drain(&mut mesh));
+    let ends = (mesh.id(mesh.origin(h)), mesh.id(mesh.target(h)));
+    let result = change(&mut mesh, h);
+    write_frame(dir, 0, &start);
+    write_events(dir, 1, &EventList::drain(&mut mesh));
     let end = mesh.to_indexed();
-    write_frame(dir.path(), 1, &end);
+    write_frame(dir, 1, &end);
+    (ends, result, start, end)
+}
+
+#[test]
+fn backward_through_a_collapse_gives_both_ends_the_merged_value() {
+    let dir = tempfile::tempdir().unwrap();
+    let ((ida, idb), merged_id, _, end) = one_change(dir.path(), |mesh, h| {
+        let mid = (mesh.position(mesh.origin(h)) + mesh.position(mesh.target(h))) * 0.5;
+        let merged = mesh.collapse(h, mid).unwrap();
+        mesh.id(merged)
+    });
     let ids = end.ids.as_ref().unwrap();
     let values = Attribute {
         name: "s".to_string(),
@@ -184,49 +196,32 @@ fn backward_through_a_collapse_gives_both_ends_the_merged_value() {
 #[test]
 fn a_merge_keeps_the_kept_ends_value_and_gives_it_to_the_removed_end_going_backward() {
     let dir = tempfile::tempdir().unwrap();
-    let start = start_mesh();
-    let mut mesh = surftrack::mesh::Mesh::from_indexed(&start).unwrap();
-    mesh.record_mutations();
-    let h = mesh.edges().next().unwrap();
-    let (a, b) = (mesh.origin(h), mesh.target(h));
-    let (ida, idb) = (mesh.id(a), mesh.id(b));
-    assert_eq!(mesh.merge(h), Some(a));
-    write_frame(dir.path(), 0, &start);
-    write_events(dir.path(), 1, &EventList::drain(&mut mesh));
-    let end = mesh.to_indexed();
-    write_frame(dir.path(), 1, &end);
+    let ((ida, idb), kept, start, end) = one_change(dir.path(), |mesh, h| {
+        let kept = mesh.merge(h).unwrap();
+        mesh.id(kept)
+    });
+    assert_eq!(kept, ida, "the origin is kept");
     let value = |id: u64| if id == ida { 5.0 } else { 1.0 };
-    let start_ids = start.ids.clone().unwrap();
-    let forward = carried(
-        dir.path(),
-        Direction::Forward,
-        &[Attribute {
+    // The values `value` gives the frame `ids` carried in `direction`, as (id, value) pairs.
+    let run = |direction: Direction, ids: &[u64]| -> Vec<(u64, f32)> {
+        let values = Attribute {
             name: "s".to_string(),
             components: 1,
-            values: start_ids.iter().map(|&id| value(id)).collect(),
-        }],
-    );
-    let (_, last) = &forward[1];
-    let (_, got) = channel(last, "s");
-    for (id, v) in last.ids.as_ref().unwrap().iter().zip(got) {
-        assert_ne!(*id, idb, "the removed end is gone");
-        assert_eq!(v, [value(*id)], "vertex {id} keeps its value");
+            values: ids.iter().map(|&id| value(id)).collect(),
+        };
+        let out = carried(dir.path(), direction, &[values]);
+        let (_, mesh) = &out[1];
+        let (_, got) = channel(mesh, "s");
+        let ids = mesh.ids.as_ref().unwrap().iter().copied();
+        ids.zip(got.iter().map(|v| v[0])).collect()
+    };
+    for (id, v) in run(Direction::Forward, start.ids.as_ref().unwrap()) {
+        assert_ne!(id, idb, "the removed end is gone");
+        assert_eq!(v, value(id), "vertex {id} keeps its value");
     }
-    let end_ids = end.ids.as_ref().unwrap();
-    let backward = carried(
-        dir.path(),
-        Direction::Backward,
-        &[Attribute {
-            name: "s".to_string(),
-            components: 1,
-            values: end_ids.iter().map(|&id| value(id)).collect(),
-        }],
-    );
-    let (_, first) = &backward[1];
-    let (_, got) = channel(first, "s");
-    for (id, v) in first.ids.as_ref().unwrap().iter().zip(got) {
-        let want = if *id == idb { 5.0 } else { value(*id) };
-        assert_eq!(v, [want], "vertex {id}");
+    for (id, v) in run(Direction::Backward, end.ids.as_ref().unwrap()) {
+        let want = if id == idb { 5.0 } else { value(id) };
+        assert_eq!(v, want, "vertex {id}");
     }
 }
 
