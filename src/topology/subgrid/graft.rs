@@ -287,10 +287,8 @@ fn grow_graft(
                         // farther than half the bound (see below) adds fewer cells, the region
                         // grows there instead, and the rims later if that does not mend it.
                         None if !rimmed => {
-                            let (part, joined, (_, left)) = measured(&graft, ours.mesh, theirs);
-                            let far = cells(suspected(&mut halvings, bounds, |distance| {
-                                far_apart((&joined, &left, &part), bounds, distance)
-                            })?);
+                            let far =
+                                cells(far_samples(&graft, (ours, theirs), bounds, &mut halvings)?);
                             let (mut by_far, mut by_rims) = (region.clone(), region.clone());
                             grow(&mut by_far, &far);
                             grow(&mut by_rims, &region);
@@ -314,10 +312,7 @@ fn grow_graft(
                         // around the samples farther than half the bound, then a quarter; only
                         // where none are left does the whole region grow.
                         None => {
-                            let (part, joined, (_, left)) = measured(&graft, ours.mesh, theirs);
-                            let found = suspected(&mut halvings, bounds, |distance| {
-                                far_apart((&joined, &left, &part), bounds, distance)
-                            })?;
+                            let found = far_samples(&graft, (ours, theirs), bounds, &mut halvings)?;
                             if found.is_empty() {
                                 region.clone()
                             } else {
@@ -1139,6 +1134,20 @@ fn shape_verdict(part: &IndexedMesh, bounds: &Bounds) -> Option<Verdict> {
         return Some(Verdict::Fails);
     }
     None
+}
+
+/// The samples of a joined result farther from the other surface than half the bound, else than
+/// a quarter (see `suspected`): where a hole or handle thinner than a cell may lie.
+fn far_samples(
+    graft: &Graft,
+    (ours, theirs): (&Side, &Side),
+    bounds: &Bounds,
+    halvings: &mut usize,
+) -> Result<Vec<Vec3>, SubgridError> {
+    let (part, joined, (_, left)) = measured(graft, ours.mesh, theirs);
+    suspected(halvings, bounds, |distance| {
+        far_apart((&joined, &left, &part), bounds, distance)
+    })
 }
 
 /// The points `look` finds at half the distance bound, else at a quarter, starting at the level
