@@ -39,7 +39,8 @@
 //! handles together ([`mending_rims`]: on the dam break's frame 34 the main body's region
 //! then ends at 13.2k cells where growing every rim by a cell gave 22.0k); where none does, the
 //! whole clusters that step 1 narrowed to the parts carrying their change join the region, then
-//! the region grows by a cell around all of it, then the clusters step 1 left out join it,
+//! the region grows by a cell around all of it (or, where that adds more cells, around the far
+//! samples described next), then the clusters step 1 left out join it,
 //! and if it is still found, the region grows around the samples of either surface farther from
 //! the other than half the bound, else a quarter (a hole or handle thinner than a cell that no
 //! grid edge meets still holds one surface off the other there); only when there are none does
@@ -292,12 +293,13 @@ fn grow_graft(
                             let (mut by_far, mut by_rims) = (region.clone(), region.clone());
                             grow(&mut by_far, &far);
                             grow(&mut by_rims, &region);
-                            if !far.is_empty() && by_far.len() < by_rims.len() {
-                                far
+                            region = if !far.is_empty() && by_far.len() < by_rims.len() {
+                                by_far
                             } else {
                                 rimmed = true;
-                                region.clone()
-                            }
+                                by_rims
+                            };
+                            continue;
                         }
                         // The selected clusters are not all the difference: every cluster joins.
                         None if !widened => {
