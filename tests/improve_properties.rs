@@ -131,6 +131,61 @@ fn the_deviation_limit_stops_collapses_that_would_move_the_surface() {
     assert!(moved > 0.0 && moved <= 2.0 * 0.0225 * l, "moved {moved}");
 }
 
+/// An icosphere with one vertex pushed most of the way towards a neighbour along the surface.
+fn pushed_vertex() -> (Mesh, f32) {
+    let input = IndexedMesh::icosphere(Vec3::new(0.5, -1.0, 2.0), 1.5, 3);
+    let l = input.mean_edge_length();
+    let mut mesh = Mesh::from_indexed(&input).expect("valid");
+    let h = mesh.edges().nth(40).expect("an edge");
+    let (v, w) = (mesh.origin(h), mesh.target(h));
+    let p = mesh.position(v) + 0.6 * (mesh.position(w) - mesh.position(v));
+    mesh.set_position(v, p);
+    (mesh, l)
+}
+
+#[test]
+fn a_carried_vertex_pushed_against_a_neighbour_is_moved_back_instead_of_removed() {
+    // Registration can bunch vertices; a vertex from an earlier frame is then moved along the
+    // surface, keeping every id, where a merge would re-sample it.
+    let (mut mesh, l) = pushed_vertex();
+    let before: Vec<u64> = mesh.vertices().map(|v| mesh.id(v)).collect();
+    mesh.record_mutations();
+    let params = ImproveParams {
+        relax_below: mesh.next_id(),
+        ..ImproveParams::new(l)
+    };
+    let report = improve(&mut mesh, &params).expect("improve");
+    assert!(report.relaxes >= 1, "{report:?}");
+    assert_eq!((report.merges, report.collapses, report.splits), (0, 0, 0));
+    assert!(report.unfixed.is_empty(), "{:?}", report.unfixed);
+    assert!(mesh.take_journal().is_empty(), "a move is no mutation");
+    let after: Vec<u64> = mesh.vertices().map(|v| mesh.id(v)).collect();
+    assert_eq!(before, after);
+    let shortest = mesh
+        .edges()
+        .map(|e| {
+            mesh.position(mesh.origin(e))
+                .distance(mesh.position(mesh.target(e)))
+        })
+        .fold(f32::INFINITY, f32::min);
+    assert!(
+        shortest >= params.min_edge_length(),
+        "shortest edge {shortest}"
+    );
+}
+
+#[test]
+fn a_vertex_new_in_this_frame_is_removed_as_before() {
+    // The same mesh with no vertex carried over: the short edge goes by a merge, as in the paper's
+    // improvement of a frame's new surface.
+    let (mut mesh, l) = pushed_vertex();
+    let vertices = mesh.vertex_count();
+    let report = improve(&mut mesh, &ImproveParams::new(l)).expect("improve");
+    assert_eq!(report.relaxes, 0);
+    assert!(report.merges + report.collapses >= 1, "{report:?}");
+    assert!(mesh.vertex_count() < vertices);
+}
+
 #[test]
 fn a_vertex_split_off_near_an_end_is_merged_back_into_the_older_end() {
     // Splitting an edge of a good mesh at a tenth leaves one short edge; merging its new end into

@@ -1,7 +1,8 @@
 //! Fixing short edges, small angles and sharp dihedral angles, worst first. Each bad element has a
 //! short list of candidate operations, tried in order until one passes its checks: a flip first where
-//! it can help (it re-samples nothing), then a merge of the short or sharply folded edge into one of
-//! its ends (it re-samples that end alone), then the paper's collapse (§4.1), then collapses that remove
+//! it can help (it re-samples nothing), then a move of one end of the short or sharply folded edge
+//! along the surface (it re-samples nothing either; see `relax`), then a merge of that edge into one
+//! of its ends (it re-samples that end alone), then the paper's collapse (§4.1), then collapses that remove
 //! one end of a short edge along a flatter direction, and last a split that halves an over-long edge
 //! of a badly proportioned triangle. After an operation the faces it created are examined again, so
 //! new problems join the queue.
@@ -10,6 +11,7 @@ use super::collapse::{check_collapse, check_merge};
 use super::flip::check_flip;
 use super::params::Limits;
 use super::queue::{Kind, Queue, Task};
+use super::relax::check_relax;
 use super::report::{ImproveReport, Operation, Refusal};
 use super::scan::{edge_tasks, face_task, rescan, scan};
 use super::split::check_split;
@@ -24,6 +26,8 @@ pub(super) enum Fix {
     /// Merge into the origin of the half-edge.
     Merge(HalfEdgeId),
     Split(HalfEdgeId),
+    /// Move the origin of the half-edge along the surface.
+    Relax(HalfEdgeId),
 }
 
 impl Fix {
@@ -33,6 +37,7 @@ impl Fix {
             Fix::Collapse(_) => Operation::Collapse,
             Fix::Merge(_) => Operation::Merge,
             Fix::Split(_) => Operation::Split,
+            Fix::Relax(_) => Operation::Relax,
         }
     }
 }
@@ -49,15 +54,17 @@ pub(super) fn candidates<'a>(
     let later = |e: HalfEdgeId| std::iter::once(()).flat_map(move |()| removals(mesh, e, limits));
     match task.kind {
         Kind::ShortEdge => Box::new(
-            merges(mesh, h)
+            relaxes(mesh, h, limits)
                 .into_iter()
+                .chain(merges(mesh, h))
                 .chain(std::iter::once(Fix::Collapse(h)))
                 .chain(later(h))
                 .chain([h, mesh.twin(h)].map(|e| Fix::Split(longest_edge(mesh, e)))),
         ),
         Kind::SharpDihedral => Box::new(
-            merges(mesh, h)
+            relaxes(mesh, h, limits)
                 .into_iter()
+                .chain(merges(mesh, h))
                 .chain([Fix::Collapse(h), Fix::Flip(h)]),
         ),
         Kind::SmallAngle => {
@@ -66,6 +73,7 @@ pub(super) fn candidates<'a>(
             let [shortest, middle, longest] = edges;
             Box::new(
                 std::iter::once(Fix::Flip(longest))
+                    .chain(relaxes(mesh, shortest, limits))
                     .chain(merges(mesh, shortest))
                     .chain(std::iter::once(Fix::Collapse(shortest)))
                     .chain(later(shortest))
@@ -88,6 +96,19 @@ fn merges(mesh: &Mesh, h: HalfEdgeId) -> [Fix; 2] {
     } else {
         [Fix::Merge(t), Fix::Merge(h)]
     }
+}
+
+/// Moves of either end of the edge of `h` along the surface, for the ends that may move
+/// (`ImproveParams::relax_below`), the newer end (the larger id) first: a move keeps both ids, so
+/// it comes before any removal.
+fn relaxes(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Vec<Fix> {
+    let t = mesh.twin(h);
+    let mut ends = [h, t];
+    ends.sort_by_key(|&e| std::cmp::Reverse(mesh.id(mesh.origin(e))));
+    ends.into_iter()
+        .filter(|&e| mesh.id(mesh.origin(e)) < limits.relax_below)
+        .map(Fix::Relax)
+        .collect()
 }
 
 /// Collapses that remove one end of the short edge of `h` by merging it with another neighbour, so
@@ -134,12 +155,18 @@ pub(super) fn check(mesh: &Mesh, fix: Fix, limits: &Limits) -> Result<(), Refusa
         Fix::Collapse(h) => check_collapse(mesh, h, limits),
         Fix::Merge(h) => check_merge(mesh, h, limits),
         Fix::Split(h) => check_split(mesh, h, limits),
+        Fix::Relax(h) => check_relax(mesh, h, limits).map(|_| ()),
     }
 }
 
 /// Performs a fix whose checks passed; returns the faces it created, or `None` when the mesh itself
 /// refuses (a face would be degenerate).
-fn apply(mesh: &mut Mesh, fix: Fix, report: &mut ImproveReport) -> Option<Vec<FaceId>> {
+fn apply(
+    mesh: &mut Mesh,
+    fix: Fix,
+    limits: &Limits,
+    report: &mut ImproveReport,
+) -> Option<Vec<FaceId>> {
     let created = match fix {
         Fix::Flip(h) => mesh.flip(h).map(|e| {
             report.flips += 1;
@@ -160,6 +187,14 @@ fn apply(mesh: &mut Mesh, fix: Fix, report: &mut ImproveReport) -> Option<Vec<Fa
             report.splits += 1;
             mesh.outgoing(m).map(|e| mesh.face(e)).collect()
         }),
+        Fix::Relax(h) => {
+            let v = mesh.origin(h);
+            check_relax(mesh, h, limits).ok().map(|q| {
+                mesh.set_position(v, q);
+                report.relaxes += 1;
+                mesh.outgoing(v).map(|e| mesh.face(e)).collect()
+            })
+        }
     };
     if created.is_none() {
         report.refused(Refusal::Degenerate);
@@ -195,7 +230,7 @@ pub(super) fn fix_bad_elements(
         Fix::Collapse(h) => [mesh.origin(h), mesh.target(h)]
             .iter()
             .any(|v| split.contains(&mesh.id(*v))),
-        Fix::Flip(_) | Fix::Split(_) => false,
+        Fix::Flip(_) | Fix::Split(_) | Fix::Relax(_) => false,
     };
     let mut done = 0;
     while done < budget
@@ -213,7 +248,7 @@ pub(super) fn fix_bad_elements(
                     .map_err(|reason| report.refused(reason))
                     .is_ok()
         });
-        if let Some(faces) = chosen.and_then(|fix| apply(mesh, fix, report)) {
+        if let Some(faces) = chosen.and_then(|fix| apply(mesh, fix, limits, report)) {
             done += 1;
             if let Some(Fix::Split(_)) = chosen {
                 split.insert(mesh.next_id() - 1);

@@ -2,7 +2,9 @@
 //! that belong to a triangle with too small an angle or to too sharp a fold, and flip edges where that
 //! raises the smallest angle without moving the surface (thesis §3.2.1). A short edge is merged into
 //! one of its ends rather than collapsed to its midpoint wherever that leaves nothing to fix, so
-//! removing a vertex re-samples one vertex rather than two.
+//! removing a vertex re-samples one vertex rather than two; and before either, a vertex carried over
+//! from an earlier frame is moved along the surface wherever that alone fixes the element, so it is
+//! not re-sampled at all.
 //!
 //! Improvement is *conservative*: only elements that break a criterion are touched, so a mesh that
 //! meets them all is left exactly as it is and records no event — every re-sampled vertex costs
@@ -21,6 +23,7 @@ mod geometry;
 mod hausdorff;
 mod params;
 mod queue;
+pub mod relax;
 mod report;
 mod scan;
 mod split;

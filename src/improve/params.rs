@@ -22,6 +22,13 @@ pub struct ImproveParams {
     /// and on the synthetic scenes the total (one-sided Hausdorff, improved → input) stays below
     /// about twice this value.
     pub max_deviation: f32,
+    /// Vertices whose id is below this may be moved along the surface instead of removed (see
+    /// `relax`); 0: none. The tracker sets it each frame to the first id the frame creates, so the
+    /// vertices carried over from the previous frame keep their ids wherever a move fixes their
+    /// elements, while the frame's new vertices (the input's triangles copied in, topology
+    /// patches, the first frame itself) are thinned to the target length as before: moving those
+    /// instead would keep a copied region as dense as the input.
+    pub relax_below: u64,
     /// Upper bound on the improvement rounds (each: split long edges, then fix short edges, small
     /// angles and sharp dihedrals until nothing more can be fixed).
     pub max_rounds: usize,
@@ -36,6 +43,7 @@ impl ImproveParams {
             min_dihedral_degrees: 45.0,
             edge_ratio: 4.0,
             max_deviation: 0.0225,
+            relax_below: 0,
             max_rounds: 8,
         }
     }
@@ -97,6 +105,7 @@ pub(super) struct Limits {
     pub cos_min_dihedral: f32,
     pub edge_ratio: f32,
     pub deviation: f32,
+    pub relax_below: u64,
     /// Cosines of the angle and dihedral limits widened by `FILTER_MARGIN_DEGREES`, for the
     /// trigonometry-free filters that run before an angle is measured.
     pub cos_angle_filter: f32,
@@ -118,6 +127,7 @@ impl Limits {
             cos_min_dihedral: params.min_dihedral_degrees.to_radians().cos(),
             edge_ratio: params.edge_ratio,
             deviation: params.max_deviation * params.edge_length,
+            relax_below: params.relax_below,
             cos_angle_filter: (params.min_angle_degrees + FILTER_MARGIN_DEGREES)
                 .min(90.0)
                 .to_radians()

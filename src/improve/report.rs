@@ -34,6 +34,7 @@ pub enum Operation {
     Collapse,
     Merge,
     Split,
+    Relax,
 }
 
 /// What is wrong with an element improvement could not fix.
@@ -64,6 +65,8 @@ pub struct ImproveReport {
     pub collapses: usize,
     pub merges: usize,
     pub flips: usize,
+    /// Vertices moved along the surface instead of removed.
+    pub relaxes: usize,
     pub rounds: usize,
     /// False when `max_rounds` ran out while rounds were still changing the mesh.
     pub converged: bool,
@@ -76,7 +79,7 @@ pub struct ImproveReport {
 impl ImproveReport {
     /// Splits, collapses, merges and flips performed.
     pub fn operations(&self) -> usize {
-        self.splits + self.collapses + self.merges + self.flips
+        self.splits + self.collapses + self.merges + self.flips + self.relaxes
     }
 
     pub(super) fn refused(&mut self, reason: Refusal) {

@@ -304,6 +304,9 @@ impl Tracker {
         let mut marks = Marks::default();
         // The target's tree serves the projection baseline, the sub-grid match and the residual.
         let bvh = Bvh::build(target).map_err(|e| TrackError::at(frame, e))?;
+        // Vertices from earlier frames may move along the surface rather than go; this frame's own
+        // are thinned as before.
+        self.params.relax_below = self.mesh.next_id();
         // Lines 5–6: M follows T_j; Φ(T_j) is sampled meanwhile.
         let (converged, phi_t) = self.follow(backend, frame, target, &bvh, &mut times)?;
         // Line 7: improve.
