@@ -8,7 +8,7 @@ use surftrack::improve::{
     ImproveError, ImproveParams, Operation, Problem, Refusal, SurfaceDistance, assess, improve,
     one_sided_hausdorff, point_triangle_distance,
 };
-use surftrack::mesh::{IndexedMesh, Mesh};
+use surftrack::mesh::{IndexedMesh, Mesh, Mutation};
 use surftrack::synth::{Scene, SynthOptions, extract, plan};
 
 /// A raw marching-cubes frame, small enough for quick tests.
@@ -171,6 +171,39 @@ fn a_carried_vertex_pushed_against_a_neighbour_is_moved_back_instead_of_removed(
     assert!(
         shortest >= params.min_edge_length(),
         "shortest edge {shortest}"
+    );
+}
+
+#[test]
+fn a_collapse_keeps_its_older_end_where_that_end_was_carried_over() {
+    // A raw marching-cubes frame needs many collapses. With every vertex carried over, each keeps
+    // its older end (moved to the midpoint): no vertex is created but by splits.
+    let input = raw_frame(Scene::Blobs);
+    let l = input.mean_edge_length() * 1.5;
+    let improve_with = |relax_below: u64| {
+        let mut mesh = Mesh::from_indexed(&input).expect("valid input");
+        mesh.record_mutations();
+        let params = ImproveParams {
+            relax_below,
+            ..ImproveParams::new(l)
+        };
+        let report = improve(&mut mesh, &params).expect("improve");
+        (report, mesh.take_journal(), mesh.next_id())
+    };
+    let (paper, journal, _) = improve_with(0);
+    assert!(paper.collapses > 0, "{paper:?}");
+    assert!(
+        journal
+            .iter()
+            .any(|m| matches!(m, Mutation::Collapse { .. }))
+    );
+    let (carried, journal, _) = improve_with(u64::MAX);
+    assert_eq!(carried.collapses, 0, "{carried:?}");
+    assert!(carried.merges > paper.merges);
+    assert!(
+        !journal
+            .iter()
+            .any(|m| matches!(m, Mutation::Collapse { .. }))
     );
 }
 

@@ -55,13 +55,23 @@ fn exercise(input: &IndexedMesh, seed: u64, operations: usize) {
                 mesh.collapse(h, mid).is_some()
             }
             3 => {
-                let (kept, at) = (mesh.origin(h), mesh.position(mesh.origin(h)));
-                let merged = mesh.merge(h);
-                if let Some(v) = merged {
+                // Half the merges keep the origin where it is, half move it to the midpoint.
+                let kept = mesh.origin(h);
+                let (merged, at) = if rng.below(2) == 0 {
+                    (mesh.position(kept), None)
+                } else {
+                    let mid = (mesh.position(kept) + mesh.position(mesh.target(h))) * 0.5;
+                    (mid, Some(mid))
+                };
+                let merged_vertex = match at {
+                    None => mesh.merge(h),
+                    Some(mid) => mesh.merge_to(h, mid),
+                };
+                if let Some(v) = merged_vertex {
                     assert_eq!(v, kept, "a merge keeps the origin's slot");
-                    assert_eq!(mesh.position(v), at, "and its position");
+                    assert_eq!(mesh.position(v), merged, "at the position asked for");
                 }
-                merged.is_some()
+                merged_vertex.is_some()
             }
             _ => mesh.flip(h).is_some(),
         };

@@ -1,5 +1,7 @@
 //! When an edge collapse is allowed (paper §4.1; thesis §3.2.2). The new vertex sits at the edge's
-//! midpoint, as in the paper, so the event's forward rule `(a + b)/2` is also where the vertex goes.
+//! midpoint, as in the paper, so the event's forward rule `(a + b)/2` is also where the vertex goes
+//! (where the older end was carried over from an earlier frame, that end goes there instead, a
+//! merge; the checks are the same).
 //! The mesh itself refuses non-manifold results (link condition, valence-3 trap, degenerate faces);
 //! these checks add the geometric ones it leaves to improvement: no face turns over, no fold sharper
 //! than the dihedral limit, no new edge past the split threshold, and the surface moves no farther

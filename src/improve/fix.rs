@@ -5,7 +5,8 @@
 //! of its ends (it re-samples that end alone), then the paper's collapse (§4.1), then collapses that remove
 //! one end of a short edge along a flatter direction, and last a split that halves an over-long edge
 //! of a badly proportioned triangle. After an operation the faces it created are examined again, so
-//! new problems join the queue.
+//! new problems join the queue. A collapse whose older end was carried over from an earlier frame
+//! keeps that end, moved to the midpoint, rather than creating a vertex there.
 
 use super::collapse::{check_collapse, check_merge};
 use super::flip::check_flip;
@@ -174,10 +175,25 @@ fn apply(
         }),
         Fix::Collapse(h) => {
             let midpoint = (mesh.position(mesh.origin(h)) + mesh.position(mesh.target(h))) * 0.5;
-            mesh.collapse(h, midpoint).map(|m| {
-                report.collapses += 1;
-                mesh.outgoing(m).map(|e| mesh.face(e)).collect()
-            })
+            // Where the older end was carried over from an earlier frame, it is the vertex at the
+            // midpoint: the collapse's geometry, re-sampling one vertex instead of two.
+            let t = mesh.twin(h);
+            let older = if mesh.id(mesh.origin(h)) < mesh.id(mesh.origin(t)) {
+                h
+            } else {
+                t
+            };
+            if mesh.id(mesh.origin(older)) < limits.relax_below {
+                mesh.merge_to(older, midpoint).map(|m| {
+                    report.merges += 1;
+                    mesh.outgoing(m).map(|e| mesh.face(e)).collect()
+                })
+            } else {
+                mesh.collapse(h, midpoint).map(|m| {
+                    report.collapses += 1;
+                    mesh.outgoing(m).map(|e| mesh.face(e)).collect()
+                })
+            }
         }
         Fix::Merge(h) => mesh.merge(h).map(|m| {
             report.merges += 1;

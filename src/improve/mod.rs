@@ -4,7 +4,8 @@
 //! one of its ends rather than collapsed to its midpoint wherever that leaves nothing to fix, so
 //! removing a vertex re-samples one vertex rather than two; and before either, a vertex carried over
 //! from an earlier frame is moved along the surface wherever that alone fixes the element, so it is
-//! not re-sampled at all.
+//! not re-sampled at all. Where a collapse is needed after all, such a vertex at its older end
+//! stays, moved to the midpoint.
 //!
 //! Improvement is *conservative*: only elements that break a criterion are touched, so a mesh that
 //! meets them all is left exactly as it is and records no event — every re-sampled vertex costs

@@ -23,11 +23,12 @@ pub struct ImproveParams {
     /// about twice this value.
     pub max_deviation: f32,
     /// Vertices whose id is below this may be moved along the surface instead of removed (see
-    /// `relax`); 0: none. The tracker sets it each frame to the first id the frame creates, so the
-    /// vertices carried over from the previous frame keep their ids wherever a move fixes their
-    /// elements, while the frame's new vertices (the input's triangles copied in, topology
-    /// patches, the first frame itself) are thinned to the target length as before: moving those
-    /// instead would keep a copied region as dense as the input.
+    /// `relax`), and a collapse keeps such an end (the older one), moved to the midpoint, instead
+    /// of creating a vertex there; 0: none. The tracker sets it each frame to the first id the
+    /// frame creates, so the vertices carried over from the previous frame keep their ids wherever
+    /// a move fixes their elements, while the frame's new vertices (the input's triangles copied
+    /// in, topology patches, the first frame itself) are thinned to the target length as before:
+    /// moving those instead would keep a copied region as dense as the input.
     pub relax_below: u64,
     /// Upper bound on the improvement rounds (each: split long edges, then fix short edges, small
     /// angles and sharp dihedrals until nothing more can be fixed).

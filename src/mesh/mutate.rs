@@ -98,9 +98,17 @@ impl Mesh {
     /// and creates nothing, so a vertex that improvement must remove costs one vertex of coherence
     /// rather than two plus a new one. Refused in the same cases as [`Mesh::collapse`].
     pub fn merge(&mut self, h: HalfEdgeId) -> Option<VertexId> {
+        self.merge_to(h, self.position(self.origin(h)))
+    }
+
+    /// [`Mesh::merge`], with the origin moved to `position`: the paper's collapse to the midpoint
+    /// (§4.1) that keeps one end's id and attributes instead of creating a vertex. Refused in the
+    /// same cases as [`Mesh::collapse`] to `position`.
+    pub fn merge_to(&mut self, h: HalfEdgeId, position: Vec3) -> Option<VertexId> {
         let (a, b) = (self.origin(h), self.target(h));
-        let (region, tris) = self.contraction(h, self.position(a))?;
+        let (region, tris) = self.contraction(h, position)?;
         let (kept, removed) = (self.id(a), self.id(b));
+        self.set_position(a, position);
         self.rewrite(&region, &tris);
         self.free_vertex(b);
         self.log(|_| Mutation::Merge { kept, removed });
