@@ -175,9 +175,10 @@ fn a_carried_vertex_pushed_against_a_neighbour_is_moved_back_instead_of_removed(
 }
 
 #[test]
-fn a_collapse_keeps_its_older_end_where_that_end_was_carried_over() {
+fn collapses_and_merges_keep_their_older_end_where_that_end_was_carried_over() {
     // A raw marching-cubes frame needs many collapses. With every vertex carried over, each keeps
-    // its older end (moved to the midpoint): no vertex is created but by splits.
+    // its older end (moved to the midpoint): no vertex is created but by splits, and no merge
+    // removes the older of its two ends.
     let input = raw_frame(Scene::Blobs);
     let l = input.mean_edge_length() * 1.5;
     let improve_with = |relax_below: u64| {
@@ -205,6 +206,12 @@ fn a_collapse_keeps_its_older_end_where_that_end_was_carried_over() {
             .iter()
             .any(|m| matches!(m, Mutation::Collapse { .. }))
     );
+    // Every merge, the collapses' and those into the newer end alike, keeps the older end.
+    for m in &journal {
+        if let Mutation::Merge { kept, removed } = m {
+            assert!(kept < removed, "merge kept {kept}, removed {removed}");
+        }
+    }
 }
 
 #[test]

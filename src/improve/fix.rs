@@ -6,7 +6,8 @@
 //! one end of a short edge along a flatter direction, and last a split that halves an over-long edge
 //! of a badly proportioned triangle. After an operation the faces it created are examined again, so
 //! new problems join the queue. A collapse whose older end was carried over from an earlier frame
-//! keeps that end, moved to the midpoint, rather than creating a vertex there.
+//! keeps that end, moved to the midpoint, rather than creating a vertex there; a merge into the
+//! newer end keeps such an older end too, moved to where the newer one stood.
 
 use super::collapse::{check_collapse, check_merge};
 use super::flip::check_flip;
@@ -195,10 +196,21 @@ fn apply(
                 })
             }
         }
-        Fix::Merge(h) => mesh.merge(h).map(|m| {
-            report.merges += 1;
-            mesh.outgoing(m).map(|e| mesh.face(e)).collect()
-        }),
+        Fix::Merge(h) => {
+            // A merge into the newer end that would remove a carried older end keeps the older
+            // one instead, moved to where the newer end stands: the same surface, one id kept.
+            let (a, b) = (mesh.origin(h), mesh.target(h));
+            let merged = if mesh.id(b) < mesh.id(a) && mesh.id(b) < limits.relax_below {
+                let at = mesh.position(a);
+                mesh.merge_to(mesh.twin(h), at)
+            } else {
+                mesh.merge(h)
+            };
+            merged.map(|m| {
+                report.merges += 1;
+                mesh.outgoing(m).map(|e| mesh.face(e)).collect()
+            })
+        }
         Fix::Split(h) => mesh.split_edge(h, 0.5).map(|m| {
             report.splits += 1;
             mesh.outgoing(m).map(|e| mesh.face(e)).collect()

@@ -23,8 +23,8 @@ pub struct ImproveParams {
     /// about twice this value.
     pub max_deviation: f32,
     /// Vertices whose id is below this may be moved along the surface instead of removed (see
-    /// `relax`), and a collapse keeps such an end (the older one), moved to the midpoint, instead
-    /// of creating a vertex there; 0: none. The tracker sets it each frame to the first id the
+    /// `relax`), and a collapse or merge keeps such an end (the older one), moved to the midpoint
+    /// or to the other end, instead of removing it; 0: none. The tracker sets it each frame to the first id the
     /// frame creates, so the vertices carried over from the previous frame keep their ids wherever
     /// a move fixes their elements, while the frame's new vertices (the input's triangles copied
     /// in, topology patches, the first frame itself) are thinned to the target length as before:
