@@ -24,7 +24,7 @@ mod geometry;
 mod hausdorff;
 mod params;
 mod queue;
-pub mod relax;
+mod relax;
 mod report;
 mod scan;
 mod split;

@@ -24,11 +24,11 @@ pub struct ImproveParams {
     pub max_deviation: f32,
     /// Vertices whose id is below this may be moved along the surface instead of removed (see
     /// `relax`), and a collapse or merge keeps such an end (the older one), moved to the midpoint
-    /// or to the other end, instead of removing it; 0: none. The tracker sets it each frame to the first id the
-    /// frame creates, so the vertices carried over from the previous frame keep their ids wherever
-    /// a move fixes their elements, while the frame's new vertices (the input's triangles copied
-    /// in, topology patches, the first frame itself) are thinned to the target length as before:
-    /// moving those instead would keep a copied region as dense as the input.
+    /// or to the other end, instead of removing it; 0: none. The tracker sets it each frame to the
+    /// first id the frame creates, so the vertices carried over from the previous frame keep their
+    /// ids wherever a move fixes their elements, while the frame's new vertices (the input's
+    /// triangles copied in, topology patches, the first frame itself) are thinned to the target
+    /// length as before: moving those instead would keep a copied region as dense as the input.
     pub relax_below: u64,
     /// Upper bound on the improvement rounds (each: split long edges, then fix short edges, small
     /// angles and sharp dihedrals until nothing more can be fixed).
