@@ -18,6 +18,7 @@ use super::report::{ImproveReport, Operation, Refusal};
 use super::scan::{edge_tasks, face_task, rescan, scan};
 use super::split::check_split;
 use crate::mesh::{FaceId, HalfEdgeId, Mesh};
+use glam::Vec3;
 use rustc_hash::FxHashSet;
 
 /// One candidate operation on an edge.
@@ -89,25 +90,29 @@ pub(super) fn candidates<'a>(
     }
 }
 
+/// The half-edges of the edge of `h` out of its older end (the smaller id), then out of its newer.
+fn older_first(mesh: &Mesh, h: HalfEdgeId) -> [HalfEdgeId; 2] {
+    let t = mesh.twin(h);
+    if mesh.id(mesh.origin(h)) < mesh.id(mesh.origin(t)) {
+        [h, t]
+    } else {
+        [t, h]
+    }
+}
+
 /// The two merges of the edge of `h`, keeping the older end (the smaller id) first: a short edge
 /// one of whose ends must go costs that end alone, and the end that has been tracked longer stays.
 fn merges(mesh: &Mesh, h: HalfEdgeId) -> [Fix; 2] {
-    let t = mesh.twin(h);
-    if mesh.id(mesh.origin(h)) < mesh.id(mesh.origin(t)) {
-        [Fix::Merge(h), Fix::Merge(t)]
-    } else {
-        [Fix::Merge(t), Fix::Merge(h)]
-    }
+    older_first(mesh, h).map(Fix::Merge)
 }
 
 /// Moves of either end of the edge of `h` along the surface, for the ends that may move
 /// (`ImproveParams::relax_below`), the newer end (the larger id) first: a move keeps both ids, so
 /// it comes before any removal.
 fn relaxes(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Vec<Fix> {
-    let t = mesh.twin(h);
-    let mut ends = [h, t];
-    ends.sort_by_key(|&e| std::cmp::Reverse(mesh.id(mesh.origin(e))));
-    ends.into_iter()
+    let [older, newer] = older_first(mesh, h);
+    [newer, older]
+        .into_iter()
         .filter(|&e| mesh.id(mesh.origin(e)) < limits.relax_below)
         .map(Fix::Relax)
         .collect()
@@ -150,22 +155,22 @@ fn longest_edge(mesh: &Mesh, h: HalfEdgeId) -> HalfEdgeId {
     })
 }
 
-/// Why `fix` would be refused now, if it would.
-pub(super) fn check(mesh: &Mesh, fix: Fix, limits: &Limits) -> Result<(), Refusal> {
+/// Why `fix` would be refused now, if it would; for a move, where the vertex goes.
+pub(super) fn check(mesh: &Mesh, fix: Fix, limits: &Limits) -> Result<Option<Vec3>, Refusal> {
     match fix {
-        Fix::Flip(h) => check_flip(mesh, h, limits),
-        Fix::Collapse(h) => check_collapse(mesh, h, limits),
-        Fix::Merge(h) => check_merge(mesh, h, limits),
-        Fix::Split(h) => check_split(mesh, h, limits),
-        Fix::Relax(h) => check_relax(mesh, h, limits).map(|_| ()),
+        Fix::Flip(h) => check_flip(mesh, h, limits).map(|()| None),
+        Fix::Collapse(h) => check_collapse(mesh, h, limits).map(|()| None),
+        Fix::Merge(h) => check_merge(mesh, h, limits).map(|()| None),
+        Fix::Split(h) => check_split(mesh, h, limits).map(|()| None),
+        Fix::Relax(h) => check_relax(mesh, h, limits).map(Some),
     }
 }
 
-/// Performs a fix whose checks passed; returns the faces it created, or `None` when the mesh itself
-/// refuses (a face would be degenerate).
+/// Performs a fix whose checks passed (a move to `to`, where they put it); returns the faces it
+/// created, or `None` when the mesh itself refuses (a face would be degenerate).
 fn apply(
     mesh: &mut Mesh,
-    fix: Fix,
+    (fix, to): (Fix, Option<Vec3>),
     limits: &Limits,
     report: &mut ImproveReport,
 ) -> Option<Vec<FaceId>> {
@@ -178,12 +183,7 @@ fn apply(
             let midpoint = (mesh.position(mesh.origin(h)) + mesh.position(mesh.target(h))) * 0.5;
             // Where the older end was carried over from an earlier frame, it is the vertex at the
             // midpoint: the collapse's geometry, re-sampling one vertex instead of two.
-            let t = mesh.twin(h);
-            let older = if mesh.id(mesh.origin(h)) < mesh.id(mesh.origin(t)) {
-                h
-            } else {
-                t
-            };
+            let [older, _] = older_first(mesh, h);
             if mesh.id(mesh.origin(older)) < limits.relax_below {
                 mesh.merge_to(older, midpoint).map(|m| {
                     report.merges += 1;
@@ -217,7 +217,7 @@ fn apply(
         }),
         Fix::Relax(h) => {
             let v = mesh.origin(h);
-            check_relax(mesh, h, limits).ok().map(|q| {
+            to.map(|q| {
                 mesh.set_position(v, q);
                 report.relaxes += 1;
                 mesh.outgoing(v).map(|e| mesh.face(e)).collect()
@@ -270,15 +270,18 @@ pub(super) fn fix_bad_elements(
         if !still_bad(mesh, &task, h, limits) {
             continue;
         }
-        let chosen = candidates(mesh, &task, h, limits).find(|&fix| {
-            !removes_fresh(mesh, fix, &split)
-                && check(mesh, fix, limits)
-                    .map_err(|reason| report.refused(reason))
-                    .is_ok()
+        let chosen = candidates(mesh, &task, h, limits).find_map(|fix| {
+            if removes_fresh(mesh, fix, &split) {
+                return None;
+            }
+            check(mesh, fix, limits)
+                .map(|to| (fix, to))
+                .map_err(|reason| report.refused(reason))
+                .ok()
         });
-        if let Some(faces) = chosen.and_then(|fix| apply(mesh, fix, limits, report)) {
+        if let Some(faces) = chosen.and_then(|chosen| apply(mesh, chosen, limits, report)) {
             done += 1;
-            if let Some(Fix::Split(_)) = chosen {
+            if let Some((Fix::Split(_), _)) = chosen {
                 split.insert(mesh.next_id() - 1);
             }
             rescan(mesh, &faces, limits, &mut |t| queue.push(t));

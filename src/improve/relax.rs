@@ -12,7 +12,7 @@ use super::geometry::{face_normal, fold, min_angle, reliable_normal};
 use super::params::Limits;
 use super::report::Refusal;
 use crate::geometry::point_triangle_distance;
-use crate::mesh::{HalfEdgeId, Mesh, VertexId};
+use crate::mesh::{HalfEdgeId, Mesh};
 use glam::Vec3;
 
 /// Fractions of the step to the neighbours' centre that are tried, largest first.
@@ -41,7 +41,7 @@ pub(super) fn check_relax(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result
     let mut refusal = Refusal::ShortEdge;
     for fraction in STEPS {
         let q = p + fraction * tangential;
-        match check_position(mesh, v, &star, &old, q, limits) {
+        match check_position(mesh, &star, &old, q, limits) {
             Ok(()) => return Ok(q),
             Err(reason) => refusal = reason,
         }
@@ -49,10 +49,9 @@ pub(super) fn check_relax(mesh: &Mesh, h: HalfEdgeId, limits: &Limits) -> Result
     Err(refusal)
 }
 
-/// The checks of moving `v` (whose outgoing half-edges are `star`, faces `old`) to `q`.
+/// The checks of moving the vertex whose outgoing half-edges are `star` (faces `old`) to `q`.
 fn check_position(
     mesh: &Mesh,
-    v: VertexId,
     star: &[HalfEdgeId],
     old: &[[Vec3; 3]],
     q: Vec3,
@@ -77,7 +76,6 @@ fn check_position(
         }
         new.push(face);
     }
-    debug_assert!(star.iter().all(|&e| mesh.origin(e) == v));
     // Folds between neighbouring new faces, and between each new face and the face beyond its
     // outer edge.
     for (i, &e) in star.iter().enumerate() {
