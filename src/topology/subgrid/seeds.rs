@@ -38,8 +38,8 @@ use crate::geometry::Components;
 use crate::grid::{GridFrame, LatticeMesh, cross_axes, rasterize};
 use crate::mesh::IndexedMesh;
 use crate::topology::classify::dilate;
-use crate::topology::clusters::{clusters, euler, holders, touching};
-use crate::topology::keys::{Cell, PARALLEL_EDGES};
+use crate::topology::clusters::{clusters, euler, touching};
+use crate::topology::keys::{Cell, NEIGHBOURS, PARALLEL_EDGES};
 use crate::topology::nearest::Survivors;
 
 /// The cells a graft's region starts from.
@@ -130,8 +130,11 @@ pub(super) fn seeds(
     around_edges.sort_unstable();
     around_edges.dedup();
     let found = clusters(&around_edges);
+    let changes = euler_changes(
+        &found,
+        (&Placed::new(frame, ours), &Placed::new(frame, input)),
+    );
     let grown: Vec<Vec<Cell>> = found.iter().map(|m| dilate(m, 1)).collect();
-    let changes = euler_changes(frame, &grown, ours, input);
     let (mut changing, mut all) = (selected.clone(), selected.clone());
     let mut changes_of = Vec::new();
     let mut zone: FxHashSet<Cell> = FxHashSet::default();
@@ -189,7 +192,8 @@ fn split_changes(
             .collect();
         submesh(mesh, &touching)
     };
-    let (ours, input) = (&near(ours), &near(input));
+    let (ours, input) = (near(ours), near(input));
+    let placed = (&Placed::new(frame, &ours), &Placed::new(frame, &input));
     let mut kept: Vec<Vec<Cell>> = Vec::new();
     while !changing.is_empty() {
         // Every cut of every cluster of this round is measured in one pass: per cluster, per
@@ -209,8 +213,7 @@ fn split_changes(
                     .collect(),
             );
         }
-        let grown: Vec<Vec<Cell>> = parts.iter().map(|m| dilate(m, 1)).collect();
-        let changes = euler_changes(frame, &grown, ours, input);
+        let changes = euler_changes(&parts, placed);
         let mut next = Vec::new();
         for ((cells, change), ranges) in changing.into_iter().zip(tried) {
             let carrying = |range: &Range<usize>| range.clone().filter(|&k| changes[k] != 0);
@@ -314,29 +317,72 @@ fn crossing_counts(
     Ok(counts)
 }
 
-/// Per cluster, given by its cells grown by one, χ(C) − χ(R): the input's triangles with every
-/// corner in the cluster's cells, and the tracked triangles with any corner in them (see the
-/// module comment).
-fn euler_changes(
-    frame: &GridFrame,
-    grown: &[Vec<Cell>],
-    ours: &IndexedMesh,
-    input: &IndexedMesh,
-) -> Vec<i64> {
-    let holders = holders(grown);
-    let none: Vec<u32> = Vec::new();
-    let clusters_at = |p: Vec3| holders.get(&cell(frame, p)).unwrap_or(&none);
+/// A mesh with the cell of each vertex: the distinct cells its vertices lie in (sorted), and the
+/// index among them of each vertex's.
+struct Placed<'a> {
+    mesh: &'a IndexedMesh,
+    cells: Vec<Cell>,
+    of: Vec<u32>,
+}
+
+impl<'a> Placed<'a> {
+    fn new(frame: &GridFrame, mesh: &'a IndexedMesh) -> Self {
+        let at: Vec<Cell> = mesh.positions.par_iter().map(|&p| cell(frame, p)).collect();
+        let mut cells = at.clone();
+        cells.par_sort_unstable();
+        cells.dedup();
+        let of = at
+            .par_iter()
+            .map(|c| cells.partition_point(|x| x < c) as u32)
+            .collect();
+        Placed { mesh, cells, of }
+    }
+
+    /// Per distinct cell, the clusters holding it once grown by one: those with a cell among
+    /// its 27 neighbours (itself included), in increasing order. A vertex's clusters are read
+    /// from its cell's, so no cluster is ever dilated.
+    fn holders(&self, clusters: &[Vec<Cell>]) -> Vec<Vec<u32>> {
+        let mut at: FxHashMap<Cell, Vec<u32>> = FxHashMap::default();
+        for (k, cells) in clusters.iter().enumerate() {
+            for &c in cells {
+                at.entry(c).or_default().push(k as u32);
+            }
+        }
+        self.cells
+            .par_iter()
+            .map(|c| {
+                let mut held: Vec<u32> = NEIGHBOURS
+                    .iter()
+                    .filter_map(|d| at.get(&[c[0] + d[0], c[1] + d[1], c[2] + d[2]]))
+                    .flatten()
+                    .copied()
+                    .collect();
+                held.sort_unstable();
+                held.dedup();
+                held
+            })
+            .collect()
+    }
+}
+
+/// Per cluster (its cells, not grown), χ(C) − χ(R) over the cluster grown by one: the input's
+/// triangles with every corner in the grown cells, and the tracked triangles with any corner in
+/// them (see the module comment).
+fn euler_changes(clusters: &[Vec<Cell>], (ours, input): (&Placed, &Placed)) -> Vec<i64> {
     // Each side is gathered on its own core, and the clusters' characteristics in parallel.
     let (removed, copied) = rayon::join(
         || {
-            touching(&ours.triangles, grown.len(), |v| {
-                clusters_at(ours.positions[v as usize])
+            let holders = ours.holders(clusters);
+            touching(&ours.mesh.triangles, clusters.len(), |v| {
+                &holders[ours.of[v as usize] as usize]
             })
         },
         || {
-            let mut copied: Vec<Vec<u32>> = vec![Vec::new(); grown.len()];
-            for (t, tri) in input.triangles.iter().enumerate() {
-                let [a, b, c] = tri.map(|v| clusters_at(input.positions[v as usize]));
+            let holders = input.holders(clusters);
+            let at = |v: u32| &holders[input.of[v as usize] as usize];
+            let mut copied: Vec<Vec<u32>> = vec![Vec::new(); clusters.len()];
+            for (t, tri) in input.mesh.triangles.iter().enumerate() {
+                let [a, b, c] = tri.map(at);
                 for &k in a.iter().filter(|k| b.contains(k) && c.contains(k)) {
                     copied[k as usize].push(t as u32);
                 }
@@ -347,7 +393,7 @@ fn euler_changes(
     removed
         .par_iter()
         .zip(&copied)
-        .map(|(r, c)| euler(input, c) - euler(ours, r))
+        .map(|(r, c)| euler(input.mesh, c) - euler(ours.mesh, r))
         .collect()
 }
 
@@ -409,18 +455,13 @@ mod tests {
             .collect();
         cluster.sort_unstable();
         cluster.dedup();
-        let whole = euler_changes(&frame, &[dilate(&cluster, 1)], &ours, &input);
+        let placed = (&Placed::new(&frame, &ours), &Placed::new(&frame, &input));
+        let whole = euler_changes(std::slice::from_ref(&cluster), placed);
         assert_eq!(whole, vec![-2]);
         let zone: FxHashSet<Cell> = dilate(&cluster, 1).into_iter().collect();
         let parts = split_changes(&frame, vec![(cluster.clone(), -2)], &zone, (&ours, &input));
         // The parts still carry the change, and lie around the tunnel only.
-        let grown: Vec<Vec<Cell>> = parts.iter().map(|p| dilate(p, 1)).collect();
-        assert_eq!(
-            euler_changes(&frame, &grown, &ours, &input)
-                .iter()
-                .sum::<i64>(),
-            -2
-        );
+        assert_eq!(euler_changes(&parts, placed).iter().sum::<i64>(), -2);
         let cells: usize = parts.iter().map(Vec::len).sum();
         assert!(4 * cells <= cluster.len(), "{cells} of {}", cluster.len());
         assert!(parts.iter().flatten().all(|c| c[0] >= 3), "{parts:?}");
