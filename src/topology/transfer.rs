@@ -87,6 +87,26 @@ impl<'a> Transfer<'a> {
     }
 }
 
+impl Transfer<'_> {
+    /// For each of `points`, the corner of the nearest triangle with the largest barycentric
+    /// weight at the closest point (the lowest index among equals), or nothing when there are no
+    /// triangles: the closest point's vertex without blending the triangle's corners. A point
+    /// just off a sheet thinner than an edge reads its own side this way, where the nearest
+    /// vertex in space may lie on the other.
+    pub fn nearest_corners(&self, points: &[Vec3]) -> Result<Vec<Option<u32>>, ProjectError> {
+        Ok(self
+            .terms(points)?
+            .into_iter()
+            .map(|terms| {
+                terms
+                    .into_iter()
+                    .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
+                    .map(|(v, _)| v)
+            })
+            .collect())
+    }
+}
+
 /// The tree of `triangles` over `positions`; none without triangles.
 fn tree_of(positions: &[Vec3], triangles: &[[u32; 3]]) -> Result<Option<Bvh>, ProjectError> {
     if triangles.is_empty() {
@@ -96,4 +116,53 @@ fn tree_of(positions: &[Vec3], triangles: &[[u32; 3]]) -> Result<Option<Bvh>, Pr
         positions.to_vec(),
         triangles.to_vec(),
     ))?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A slab 0.05 thick: its top one square of two triangles with corners 1 apart, its bottom
+    /// split into a fine grid. A point just above the top's middle lies nearest, in space, to a
+    /// bottom vertex; it reads a top corner, blended or not.
+    #[test]
+    fn a_point_off_a_thin_sheet_reads_its_own_side() {
+        let mut positions = vec![
+            Vec3::new(0.0, 0.0, 0.05),
+            Vec3::new(1.0, 0.0, 0.05),
+            Vec3::new(1.0, 1.0, 0.05),
+            Vec3::new(0.0, 1.0, 0.05),
+        ];
+        let mut triangles = vec![[0, 1, 2], [0, 2, 3]];
+        let n = 10;
+        for j in 0..=n {
+            for i in 0..=n {
+                positions.push(Vec3::new(i as f32, j as f32, 0.0) / n as f32);
+            }
+        }
+        let at = |i: u32, j: u32| 4 + j * (n + 1) + i;
+        for j in 0..n {
+            for i in 0..n {
+                triangles.push([at(i, j), at(i + 1, j + 1), at(i + 1, j)]);
+                triangles.push([at(i, j), at(i, j + 1), at(i + 1, j + 1)]);
+            }
+        }
+        let transfer = Transfer::new(&positions, triangles);
+        let p = Vec3::new(0.45, 0.35, 0.06);
+        let nearest_in_space = (0..positions.len())
+            .min_by(|&a, &b| {
+                p.distance(positions[a])
+                    .total_cmp(&p.distance(positions[b]))
+            })
+            .unwrap();
+        assert!(
+            nearest_in_space >= 4,
+            "the nearest vertex lies on the bottom"
+        );
+        assert_eq!(transfer.nearest_corners(&[p]).unwrap(), vec![Some(0)]);
+        let terms = &transfer.terms(&[p]).unwrap()[0];
+        assert!(terms.iter().all(|&(v, _)| v < 4), "{terms:?}");
+        let sum: f32 = terms.iter().map(|t| t.1).sum();
+        assert!((sum - 1.0).abs() < 1e-6);
+    }
 }

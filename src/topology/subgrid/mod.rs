@@ -24,12 +24,13 @@
 //! exception on clean input and the guarantee on real data: afterwards `M` has the input's
 //! components and Euler characteristics, and lies within `max_distance` of it.
 //!
-//! Like a topology patch with no boundary (§4.4), each vertex of a replaced component takes its data
-//! from the nearest vertex of the copy going backward, and each vertex of the copy takes, going
-//! forward, the data of the nearest vertex of the component it replaces; an inserted droplet takes
-//! the data of the nearest vertex before the change, a deleted one that of the nearest vertex after
-//! it. So every vertex of every frame holds a value (unless a whole frame is empty), a constant
-//! channel stays constant, and colours stay near where they were.
+//! Like a topology patch with no boundary (§4.4), each vertex of a replaced or grafted component
+//! takes its data going backward from the component's result at its closest point, and each
+//! vertex of the copy takes, going forward, the data of the component it replaces at its closest
+//! point; an inserted droplet reads the whole surface before the change, a deleted one the whole
+//! surface after it. The value is that of the closest triangle's corner nearest the closest point,
+//! unblended (`rebuild` says why). So every vertex of every frame holds a value (unless a whole
+//! frame is empty), a constant channel stays constant, and colours stay where they were.
 
 mod decide;
 mod earlier;

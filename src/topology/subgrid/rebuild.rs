@@ -1,15 +1,20 @@
 //! The surface the plan gives and its record (paper §4.4): the kept tracked triangles, then per
-//! input component its copied triangles and the strips joining them to the kept ones; each new
-//! vertex takes its data from the nearest vertex it replaces, each deleted one from the nearest
-//! vertex of what replaces it.
+//! input component its copied triangles and the strips joining them to the kept ones. Each new
+//! vertex takes its data from the surface it replaces at its closest point, and each deleted one,
+//! going backward, from what replaces it at its own (`topology::transfer`): the data of the
+//! closest triangle's corner that the closest point lies nearest to. On a splash sheet thinner
+//! than an edge the vertex nearest in space may lie on the sheet's other side; the closest
+//! triangle does not. The corner's value is taken whole rather than the corners' barycentric
+//! blend that a topology patch takes: the sub-grid match re-samples the same splash frame after
+//! frame, and blending there at every frame smears a texture (a carried checker crisp at the last
+//! frame: 72.8% blended against 80.0% so on the dam break, 68.1% against 72.4% on the DFSPH
+//! double dam break).
 
-use rayon::prelude::*;
-
-use super::Surfaces;
 use super::decide::Plan;
 use super::graft::Corner;
-use crate::mesh::{IndexedMesh, Mesh, MeshError, Mutation, Replacement};
-use crate::topology::nearest::Survivors;
+use super::{SubgridError, Surfaces};
+use crate::mesh::{IndexedMesh, Mesh, Mutation, Replacement};
+use crate::topology::transfer::Transfer;
 
 /// The replacement `plan` stands for; created vertices take ids from `next_id` on. Fails when the
 /// assembled surface is not a closed, oriented 2-manifold.
@@ -17,8 +22,8 @@ pub(super) fn replacement(
     s: &Surfaces,
     plan: &Plan,
     next_id: u64,
-) -> Result<Replacement, MeshError> {
-    let (current, target, spacing) = (s.current, s.target, s.spacing);
+) -> Result<Replacement, SubgridError> {
+    let (current, target) = (s.current, s.target);
     let (ours, our_labels) = (&s.ours.list, &s.ours.labels);
     let (theirs, their_triangles) = (&s.theirs.list, &s.theirs.triangles);
     let (delete, insert, grafts, replaces) =
@@ -57,29 +62,36 @@ pub(super) fn replacement(
         positions.push(current.positions[v]);
         new_ids.push(id_of(v as u32));
     }
-    let mut triangles: Vec<[u32; 3]> = current
+    // The input component whose copy or graft replaces each tracked component, if any.
+    let mut group_of: Vec<Option<usize>> = vec![None; ours.len()];
+    for (k, group) in replaces.iter().enumerate() {
+        for &c in group {
+            group_of[c] = Some(k);
+        }
+    }
+    // Per input component, the triangles of its result (new indices): the kept triangles of the
+    // tracked components it replaces, then its copied triangles and strips.
+    let mut result_of: Vec<Vec<[u32; 3]>> = vec![Vec::new(); theirs.len()];
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    for (t, _) in current
         .triangles
         .iter()
         .zip(&keep_triangle)
         .filter(|(_, k)| **k)
-        .map(|(t, _)| t.map(|v| index[v as usize]))
-        .collect();
-    // Every vertex exists when the creations are applied going forward; every kept vertex and
-    // every copy when the deletions are undone going backward.
-    let before = Survivors::new(
-        current
-            .positions
-            .iter()
-            .enumerate()
-            .map(|(v, &p)| (v as u32, p)),
-        spacing,
-    );
+    {
+        let kept = t.map(|v| index[v as usize]);
+        if let Some(k) = group_of[our_labels[t[0] as usize] as usize] {
+            result_of[k].push(kept);
+        }
+        triangles.push(kept);
+    }
+    // Going forward, every tracked vertex exists when the creations are applied: a copy reads
+    // the tracked components its copy or graft replaces, any other copy the whole tracked surface.
+    let before = Transfer::new(&current.positions, &current.triangles[..]);
 
-    // Creations: a copied vertex takes its data from the component it replaces or is grafted
-    // into, any other copy from the nearest vertex.
+    // Creations.
     let mut record: Vec<Mutation> = Vec::new();
     let mut target_index = vec![u32::MAX; target.positions.len()];
-    let mut survivors_of: Vec<Vec<u32>> = vec![Vec::new(); theirs.len()];
     for k in (0..theirs.len()).filter(|&k| insert[k] || grafts[k].is_some()) {
         let copied: Vec<u32> = match &grafts[k] {
             Some(g) => {
@@ -98,27 +110,27 @@ pub(super) fn replacement(
             }
             None => theirs[k].vertices.clone(),
         };
-        let group_vertices = || replaces[k].iter().flat_map(|&c| &ours[c].vertices);
-        let replaced = Survivors::new(
-            group_vertices().map(|&v| (v, current.positions[v as usize])),
-            spacing,
-        );
-        let sources: Vec<Option<u64>> = copied
-            .par_iter()
-            .map(|&v| {
-                let p = target.positions[v as usize];
-                replaced.nearest(p).or_else(|| before.nearest(p)).map(id_of)
-            })
+        let at: Vec<_> = copied
+            .iter()
+            .map(|&v| target.positions[v as usize])
             .collect();
+        let sources = if replaces[k].is_empty() {
+            before.nearest_corners(&at)?
+        } else {
+            let replaced: Vec<[u32; 3]> = replaces[k]
+                .iter()
+                .flat_map(|&c| &s.ours.triangles[c])
+                .map(|&t| current.triangles[t as usize])
+                .collect();
+            Transfer::new(&current.positions, replaced).nearest_corners(&at)?
+        };
         for (v, source) in copied.into_iter().zip(sources) {
-            let p = target.positions[v as usize];
             target_index[v as usize] = positions.len() as u32;
-            survivors_of[k].push(positions.len() as u32);
-            positions.push(p);
+            positions.push(target.positions[v as usize]);
             new_ids.push(next_id);
             record.push(Mutation::PatchCreated {
                 created: next_id,
-                sources: source.map(|s| vec![(s, 1.0)]).unwrap_or_default(),
+                sources: source.map(|u| vec![(id_of(u), 1.0)]).unwrap_or_default(),
             });
             next_id += 1;
         }
@@ -126,46 +138,30 @@ pub(super) fn replacement(
             Corner::Ours(v) => index[v as usize],
             Corner::Theirs(v) => target_index[v as usize],
         };
-        match &grafts[k] {
-            Some(g) => {
-                triangles.extend(
-                    g.copied
-                        .iter()
-                        .map(|&t| target.triangles[t as usize].map(|v| target_index[v as usize])),
-                );
-                triangles.extend(g.zip.iter().map(|t| t.map(corner)));
-                survivors_of[k].extend(
-                    group_vertices()
-                        .filter(|&&v| keep[v as usize])
-                        .map(|&v| index[v as usize]),
-                );
-            }
-            None => triangles.extend(
-                their_triangles[k]
-                    .iter()
-                    .map(|&t| target.triangles[t as usize].map(|v| target_index[v as usize])),
-            ),
-        }
+        let copies: Vec<[u32; 3]> = match &grafts[k] {
+            Some(g) => g
+                .copied
+                .iter()
+                .map(|&t| target.triangles[t as usize].map(|v| target_index[v as usize]))
+                .chain(g.zip.iter().map(|t| t.map(corner)))
+                .collect(),
+            None => their_triangles[k]
+                .iter()
+                .map(|&t| target.triangles[t as usize].map(|v| target_index[v as usize]))
+                .collect(),
+        };
+        triangles.extend_from_slice(&copies);
+        result_of[k].extend(copies);
     }
 
-    // Deletions: a vertex of a replaced or grafted component takes its data from that component's
-    // result going backward; any other deleted vertex from the nearest kept or copied vertex.
-    let after = Survivors::new(
-        positions.iter().enumerate().map(|(i, &p)| (i as u32, p)),
-        spacing,
-    );
-    let results: Vec<Survivors> = replaces
+    // Deletions: going backward, every kept vertex and every copy exists when they are undone. A
+    // vertex of a replaced or grafted component reads that component's result; any other
+    // deleted vertex the whole new surface.
+    let after = Transfer::new(&positions, &triangles[..]);
+    let results: Vec<Transfer> = result_of
         .iter()
-        .zip(&survivors_of)
-        .filter(|(group, _)| !group.is_empty())
-        .map(|(_, s)| Survivors::new(s.iter().map(|&i| (i, positions[i as usize])), spacing))
+        .map(|t| Transfer::new(&positions, &t[..]))
         .collect();
-    let mut source_of: Vec<&Survivors> = vec![&after; ours.len()];
-    for (group, survivors) in replaces.iter().filter(|g| !g.is_empty()).zip(&results) {
-        for &c in group {
-            source_of[c] = survivors;
-        }
-    }
     for c in (0..ours.len()).filter(|&c| delete[c]) {
         let gone: Vec<u32> = ours[c]
             .vertices
@@ -173,8 +169,14 @@ pub(super) fn replacement(
             .copied()
             .filter(|&v| !keep[v as usize])
             .collect();
-        let sources =
-            source_of[c].nearest_each(gone.par_iter().map(|&v| current.positions[v as usize]));
+        let at: Vec<_> = gone
+            .iter()
+            .map(|&v| current.positions[v as usize])
+            .collect();
+        let sources = match group_of[c] {
+            Some(k) => results[k].nearest_corners(&at)?,
+            None => after.nearest_corners(&at)?,
+        };
         for (v, source) in gone.into_iter().zip(sources) {
             record.push(Mutation::PatchDeleted {
                 deleted: id_of(v),
