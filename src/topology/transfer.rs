@@ -12,7 +12,11 @@
 use std::borrow::Cow;
 use std::cell::OnceCell;
 
-use glam::Vec3;
+use glam::{IVec3, Vec3};
+use rayon::prelude::*;
+use rustc_hash::FxHashSet;
+
+use super::nearest::Survivors;
 
 use crate::compute::Backend;
 use crate::mesh::IndexedMesh;
@@ -87,7 +91,61 @@ impl<'a> Transfer<'a> {
     }
 }
 
-impl Transfer<'_> {
+impl<'a> Transfer<'a> {
+    /// A transfer over the triangles of `triangles` that may hold the closest point of one of
+    /// `points`, which queries of those points answer as the whole surface would: a point's
+    /// closest point lies no farther than its nearest corner, at distance `r`, so the triangle
+    /// holding it has a bounding box meeting the cube of half-side `r` around the point. Boxes
+    /// and cubes are compared by the cells of spacing `cell` they cover. The tree over a
+    /// re-sampled region's surroundings costs a fraction of one over the whole surface; where a
+    /// point lies farther than [`AROUND_CELLS`] cells from every corner, every triangle is kept.
+    pub fn around(
+        positions: &'a [Vec3],
+        triangles: &[[u32; 3]],
+        points: &[Vec3],
+        cell: f32,
+    ) -> Self {
+        let mut corners: Vec<u32> = triangles.iter().flatten().copied().collect();
+        corners.par_sort_unstable();
+        corners.dedup();
+        let nearest = Survivors::new(corners.iter().map(|&v| (v, positions[v as usize])), cell);
+        let reach: Vec<Option<f32>> = nearest
+            .nearest_each(points.par_iter().copied())
+            .into_iter()
+            .zip(points)
+            .map(|(v, p)| v.map(|v| positions[v as usize].distance(*p)))
+            .collect();
+        let key = |p: Vec3| (p / cell).floor().as_ivec3();
+        let mut near: FxHashSet<IVec3> = FxHashSet::default();
+        for (p, r) in points.iter().zip(&reach) {
+            let Some(r) = *r else { continue };
+            let (low, high) = (key(*p - Vec3::splat(r)), key(*p + Vec3::splat(r)));
+            if (high - low).max_element() > AROUND_CELLS {
+                return Self::new(positions, triangles.to_vec());
+            }
+            for x in low.x..=high.x {
+                for y in low.y..=high.y {
+                    for z in low.z..=high.z {
+                        near.insert(IVec3::new(x, y, z));
+                    }
+                }
+            }
+        }
+        let kept: Vec<[u32; 3]> = triangles
+            .par_iter()
+            .filter(|t| {
+                let [a, b, c] = t.map(|v| positions[v as usize]);
+                let (low, high) = (key(a.min(b).min(c)), key(a.max(b).max(c)));
+                (low.x..=high.x).any(|x| {
+                    (low.y..=high.y)
+                        .any(|y| (low.z..=high.z).any(|z| near.contains(&IVec3::new(x, y, z))))
+                })
+            })
+            .copied()
+            .collect();
+        Self::new(positions, kept)
+    }
+
     /// For each of `points`, the corner of the nearest triangle with the largest barycentric
     /// weight at the closest point (the lowest index among equals), or nothing when there are no
     /// triangles: the closest point's vertex without blending the triangle's corners. A point
@@ -107,6 +165,10 @@ impl Transfer<'_> {
     }
 }
 
+/// How many cells across the cube around a point [`Transfer::around`] keeps triangles in may
+/// span before it keeps them all.
+const AROUND_CELLS: i32 = 16;
+
 /// The tree of `triangles` over `positions`; none without triangles.
 fn tree_of(positions: &[Vec3], triangles: &[[u32; 3]]) -> Result<Option<Bvh>, ProjectError> {
     if triangles.is_empty() {
@@ -121,6 +183,42 @@ fn tree_of(positions: &[Vec3], triangles: &[[u32; 3]]) -> Result<Option<Bvh>, Pr
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Around a few points, on and off a bumpy sphere and beside each other, the triangles kept
+    /// answer as the whole surface does, and are fewer; a point far from every corner keeps them
+    /// all.
+    #[test]
+    fn the_triangles_around_points_answer_as_the_whole_surface() {
+        let mut sphere = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 4);
+        for p in &mut sphere.positions {
+            *p *= 1.0 + 0.05 * (7.0 * p.x).sin() * (5.0 * p.y).cos();
+        }
+        let points: Vec<Vec3> = (0..40)
+            .map(|i| {
+                let a = i as f32 * 0.37;
+                Vec3::new(a.cos(), a.sin() * 0.3, a.sin()).normalize() * (0.9 + 0.005 * i as f32)
+            })
+            .collect();
+        let whole = Transfer::new(&sphere.positions, &sphere.triangles[..]);
+        let around = Transfer::around(&sphere.positions, &sphere.triangles, &points, 0.1);
+        assert!(around.triangles.len() < sphere.triangles.len() / 4);
+        let distance = |t: &Transfer, p: Vec3| {
+            let hit = &closest_points(
+                &Backend::Cpu,
+                t.tree().unwrap().unwrap(),
+                &[p],
+                f32::INFINITY,
+            )
+            .unwrap()[0];
+            hit.distance.abs()
+        };
+        for &p in &points {
+            assert_eq!(distance(&around, p), distance(&whole, p), "{p}");
+        }
+        let far = [Vec3::new(5.0, 0.0, 0.0)];
+        let all = Transfer::around(&sphere.positions, &sphere.triangles, &far, 0.1);
+        assert_eq!(all.triangles.len(), sphere.triangles.len());
+    }
 
     /// A slab 0.05 thick: its top one square of two triangles with corners 1 apart, its bottom
     /// split into a fine grid. A point just above the top's middle lies nearest, in space, to a

@@ -10,6 +10,8 @@
 //! frame: 72.8% blended against 80.0% so on the dam break, 68.1% against 72.4% on the DFSPH
 //! double dam break).
 
+use glam::Vec3;
+
 use super::decide::Plan;
 use super::graft::Corner;
 use super::{SubgridError, Surfaces};
@@ -23,7 +25,7 @@ pub(super) fn replacement(
     plan: &Plan,
     next_id: u64,
 ) -> Result<Replacement, SubgridError> {
-    let (current, target) = (s.current, s.target);
+    let (current, target, spacing) = (s.current, s.target, s.spacing);
     let (ours, our_labels) = (&s.ours.list, &s.ours.labels);
     let (theirs, their_triangles) = (&s.theirs.list, &s.theirs.triangles);
     let (delete, insert, grafts, replaces) =
@@ -85,15 +87,14 @@ pub(super) fn replacement(
         }
         triangles.push(kept);
     }
-    // Going forward, every tracked vertex exists when the creations are applied: a copy reads
-    // the tracked components its copy or graft replaces, any other copy the whole tracked surface.
-    let before = Transfer::new(&current.positions, &current.triangles[..]);
-
-    // Creations.
-    let mut record: Vec<Mutation> = Vec::new();
-    let mut target_index = vec![u32::MAX; target.positions.len()];
-    for k in (0..theirs.len()).filter(|&k| insert[k] || grafts[k].is_some()) {
-        let copied: Vec<u32> = match &grafts[k] {
+    // Creations: going forward, every tracked vertex exists when they are applied. A copy reads
+    // the tracked components its copy or graft replaces, any other copy the whole tracked
+    // surface; the copies reading one surface are asked at once.
+    let copying: Vec<usize> = (0..theirs.len())
+        .filter(|&k| insert[k] || grafts[k].is_some())
+        .collect();
+    let copies_of = |k: usize| -> Vec<u32> {
+        match &grafts[k] {
             Some(g) => {
                 let mut used: Vec<u32> = g
                     .copied
@@ -109,22 +110,37 @@ pub(super) fn replacement(
                 used
             }
             None => theirs[k].vertices.clone(),
-        };
-        let at: Vec<_> = copied
+        }
+    };
+    let copied: Vec<Vec<u32>> = copying.iter().map(|&k| copies_of(k)).collect();
+    let copied_at = |i: usize| copied[i].iter().map(|&v| target.positions[v as usize]);
+    let mut sources: Vec<Vec<Option<u32>>> = vec![Vec::new(); copying.len()];
+    let inserted: Vec<usize> = (0..copying.len())
+        .filter(|&i| replaces[copying[i]].is_empty())
+        .collect();
+    read_corners(
+        (&current.positions, &current.triangles, spacing),
+        &inserted,
+        copied_at,
+        &mut sources,
+    )?;
+    for i in (0..copying.len()).filter(|&i| !replaces[copying[i]].is_empty()) {
+        let replaced: Vec<[u32; 3]> = replaces[copying[i]]
             .iter()
-            .map(|&v| target.positions[v as usize])
+            .flat_map(|&c| &s.ours.triangles[c])
+            .map(|&t| current.triangles[t as usize])
             .collect();
-        let sources = if replaces[k].is_empty() {
-            before.nearest_corners(&at)?
-        } else {
-            let replaced: Vec<[u32; 3]> = replaces[k]
-                .iter()
-                .flat_map(|&c| &s.ours.triangles[c])
-                .map(|&t| current.triangles[t as usize])
-                .collect();
-            Transfer::new(&current.positions, replaced).nearest_corners(&at)?
-        };
-        for (v, source) in copied.into_iter().zip(sources) {
+        read_corners(
+            (&current.positions, &replaced, spacing),
+            &[i],
+            copied_at,
+            &mut sources,
+        )?;
+    }
+    let mut record: Vec<Mutation> = Vec::new();
+    let mut target_index = vec![u32::MAX; target.positions.len()];
+    for ((&k, copied), sources) in copying.iter().zip(copied.iter()).zip(sources) {
+        for (&v, source) in copied.iter().zip(sources) {
             target_index[v as usize] = positions.len() as u32;
             positions.push(target.positions[v as usize]);
             new_ids.push(next_id);
@@ -156,28 +172,35 @@ pub(super) fn replacement(
 
     // Deletions: going backward, every kept vertex and every copy exists when they are undone. A
     // vertex of a replaced or grafted component reads that component's result; any other
-    // deleted vertex the whole new surface.
-    let after = Transfer::new(&positions, &triangles[..]);
-    let results: Vec<Transfer> = result_of
-        .iter()
-        .map(|t| Transfer::new(&positions, &t[..]))
+    // deleted vertex the whole new surface. The vertices reading one surface are asked at once.
+    let gone: Vec<(usize, Vec<u32>)> = (0..ours.len())
+        .filter(|&c| delete[c])
+        .map(|c| {
+            let vertices = ours[c].vertices.iter().copied();
+            (c, vertices.filter(|&v| !keep[v as usize]).collect())
+        })
         .collect();
-    for c in (0..ours.len()).filter(|&c| delete[c]) {
-        let gone: Vec<u32> = ours[c]
-            .vertices
-            .iter()
-            .copied()
-            .filter(|&v| !keep[v as usize])
+    let mut sources: Vec<Vec<Option<u32>>> = vec![Vec::new(); gone.len()];
+    let mut readers: Vec<Option<usize>> = gone.iter().map(|(c, _)| group_of[*c]).collect();
+    readers.sort_unstable();
+    readers.dedup();
+    for reader in readers {
+        let asking: Vec<usize> = (0..gone.len())
+            .filter(|&i| group_of[gone[i].0] == reader)
             .collect();
-        let at: Vec<_> = gone
-            .iter()
-            .map(|&v| current.positions[v as usize])
-            .collect();
-        let sources = match group_of[c] {
-            Some(k) => results[k].nearest_corners(&at)?,
-            None => after.nearest_corners(&at)?,
+        let surface = match reader {
+            Some(k) => &result_of[k],
+            None => &triangles,
         };
-        for (v, source) in gone.into_iter().zip(sources) {
+        read_corners(
+            (&positions, surface, spacing),
+            &asking,
+            |i| gone[i].1.iter().map(|&v| current.positions[v as usize]),
+            &mut sources,
+        )?;
+    }
+    for ((_, vertices), found) in gone.iter().zip(sources) {
+        for (&v, source) in vertices.iter().zip(found) {
             record.push(Mutation::PatchDeleted {
                 deleted: id_of(v),
                 sources: source
@@ -192,4 +215,27 @@ pub(super) fn replacement(
         surface: Mesh::from_indexed(&surface)?,
         record,
     })
+}
+
+/// For each list `i` of `asking`, the nearest corners (`Transfer::nearest_corners`) on `surface`
+/// (triangles over `positions`, with the cell size of `Transfer::around`) of the points `at(i)`,
+/// into `sources[i]`: every list reading one surface is asked at once, through one tree over
+/// the triangles around them all.
+fn read_corners<I: Iterator<Item = Vec3>>(
+    (positions, surface, cell): (&[Vec3], &[[u32; 3]], f32),
+    asking: &[usize],
+    at: impl Fn(usize) -> I,
+    sources: &mut [Vec<Option<u32>>],
+) -> Result<(), SubgridError> {
+    if asking.is_empty() {
+        return Ok(());
+    }
+    let points: Vec<Vec3> = asking.iter().flat_map(|&i| at(i)).collect();
+    let mut found = Transfer::around(positions, surface, &points, cell)
+        .nearest_corners(&points)?
+        .into_iter();
+    for &i in asking {
+        sources[i] = found.by_ref().take(at(i).count()).collect();
+    }
+    Ok(())
 }
