@@ -12,6 +12,7 @@ use surftrack::geometry::point_triangle::point_triangle_distance;
 use surftrack::grid::{ScalarGrid, marching_cubes};
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::project::Bvh;
+use surftrack::topology::Carry;
 use surftrack::topology::subgrid::{Fidelity, SubgridCounts, match_below_grid};
 
 fn constant(ids: &[u64]) -> VertexValues {
@@ -40,6 +41,20 @@ fn run_with(
     max_distance: f32,
     fidelity: Fidelity,
 ) -> (Mesh, Mesh, SubgridCounts, surftrack::events::EventList) {
+    run_carrying(
+        ours,
+        target,
+        (spacing, max_distance),
+        (fidelity, Carry::Corner),
+    )
+}
+
+fn run_carrying(
+    ours: &IndexedMesh,
+    target: &IndexedMesh,
+    (spacing, max_distance): (f32, f32),
+    policy: (Fidelity, Carry),
+) -> (Mesh, Mesh, SubgridCounts, surftrack::events::EventList) {
     let before = Mesh::from_indexed(ours).unwrap();
     let mut mesh = before.clone();
     mesh.record_mutations();
@@ -50,7 +65,7 @@ fn run_with(
         (target, &bvh),
         spacing,
         max_distance,
-        fidelity,
+        policy,
     )
     .unwrap();
     let events = surftrack::events::EventList::drain(&mut mesh);
@@ -226,6 +241,60 @@ fn a_large_component_with_another_topology_is_replaced_and_keeps_its_data() {
     let mut values = constant(&ids_before);
     forward(&events, &mut values).unwrap();
     assert_constant(&values, out.ids.as_deref().unwrap());
+}
+
+#[test]
+fn a_replaced_component_blends_its_data_when_asked() {
+    let ours = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
+    let target = IndexedMesh::torus(0.8, 0.3, 48, 16);
+    let policy = (Fidelity::Input, Carry::Blend);
+    let (before, mesh, counts, events) = run_carrying(&ours, &target, (0.25, 0.25), policy);
+    assert_eq!(counts.replaced, 1);
+    events.check().unwrap();
+    // x is linear on a triangle: the blend at the closest point gives that point's x, within
+    // the distance to the surface read. Taking a corner whole misses by up to the distance to
+    // that corner, which this bound catches.
+    let (ids_before, mut values) = x_values(&before);
+    forward(&events, &mut values).unwrap();
+    assert_blended_x(&mesh, &before, &values, "forward");
+    let (_, mut values) = x_values(&mesh);
+    backward(&events, &mut values).unwrap();
+    assert_blended_x(&before, &mesh, &values, "backward");
+    // A constant stays constant, up to the rounding of the blend.
+    let mut values = constant(&ids_before);
+    forward(&events, &mut values).unwrap();
+    let ids = mesh.to_indexed().ids.unwrap();
+    assert_eq!(values.len(), ids.len());
+    for id in ids {
+        let value = values.get(id).map(|v| v[0]);
+        assert!(
+            value.is_some_and(|v| (v - 0.25).abs() <= 1e-6),
+            "{id}: {value:?}"
+        );
+    }
+}
+
+/// Checks that every vertex of `mesh` carries the x coordinate of the point of `source` closest
+/// to it, within its distance to `source`'s surface.
+fn assert_blended_x(mesh: &Mesh, source: &Mesh, values: &VertexValues, what: &str) {
+    let (out, from) = (mesh.to_indexed(), source.to_indexed());
+    let ids = out.ids.unwrap();
+    assert_eq!(values.len(), ids.len(), "{what}");
+    for (&id, p) in ids.iter().zip(&out.positions) {
+        let closest = from
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| from.positions[v as usize]);
+                point_triangle_distance(*p, a, b, c)
+            })
+            .fold(f32::INFINITY, f32::min);
+        let error = (values.get(id).unwrap()[0] - p.x).abs();
+        assert!(
+            error <= closest + 1e-5,
+            "{what}: vertex {id}: {error} > {closest}"
+        );
+    }
 }
 
 #[test]

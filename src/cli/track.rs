@@ -13,6 +13,7 @@ use surftrack::sequence::{
     FrameFormat, FrameSource, Layout, Output, Progress, RunReport, SUMMARY_FILE, Start,
     track_sequence,
 };
+use surftrack::topology::Carry;
 use surftrack::topology::subgrid::Fidelity;
 use surftrack::track::{FrameLog, MAX_DISTANCE, Motion, TRACK_MAX_DEVIATION, TrackOptions};
 
@@ -114,6 +115,14 @@ pub struct MethodParams {
     /// sheets, tunnels and bridges thinner than a cell may differ from the input's).
     #[arg(long, value_enum, default_value_t = FidelityArg::Input)]
     pub fidelity: FidelityArg,
+    /// How a vertex that re-sampling creates or deletes takes its data from the surface at its
+    /// closest point: `corner` (the value of the closest triangle's nearest corner, whole: a
+    /// texture stays crisp where the same splash is re-sampled frame after frame) or `blend` (the
+    /// corners' barycentric blend: exact for data linear over the surface, such as UVs, but a
+    /// texture blurs across a triangle each time).
+    #[arg(long, value_enum, default_value_t = TransferArg::Corner)]
+    #[serde(default = "blended")]
+    pub transfer: TransferArg,
 }
 
 /// `--fidelity`.
@@ -126,6 +135,19 @@ fn default_max_graph_nodes() -> usize {
 pub enum FidelityArg {
     Input,
     Grid,
+}
+
+/// `--transfer`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
+pub enum TransferArg {
+    Corner,
+    Blend,
+}
+
+/// The transfer of a run recorded before the flag existed: its topology patches blended, so
+/// `--resume` asks for `--transfer blend` to continue it alike.
+fn blended() -> TransferArg {
+    TransferArg::Blend
 }
 
 /// The cover weight of a run recorded before the flag existed: it ran without the term, so
@@ -160,6 +182,10 @@ impl MethodParams {
         o.register.fine.sigma = self.sigma;
         o.register.fine.cover_weight = self.cover_weight;
         o.topology.depth = self.depth;
+        o.topology.carry = match self.transfer {
+            TransferArg::Corner => Carry::Corner,
+            TransferArg::Blend => Carry::Blend,
+        };
         o.max_distance = self.max_distance;
         o.fidelity = match self.fidelity {
             FidelityArg::Input => Fidelity::Input,

@@ -40,7 +40,7 @@ use super::narrow::changing;
 use super::points::Point;
 use super::record::record;
 use super::region::{Checks, grow};
-use super::transfer::Transfer;
+use super::transfer::{Carry, Transfer};
 use super::{Abandoned, Resampling, TopologyError, TopologyOptions, TopologyReport};
 use crate::mesh::{IndexedMesh, Mesh, MeshError, Replacement};
 
@@ -193,7 +193,12 @@ fn resample(
         let attempted = old.prepare_while(|| attempt_region(&grid, theta, &region, &mut checks));
         let outcome = match attempted {
             Ok((built, splits)) => {
-                let recorded = record(&grid, &built, &splits, (mesh.next_id(), &old))?;
+                let recorded = record(
+                    &grid,
+                    &built,
+                    &splits,
+                    (mesh.next_id(), &old, options.carry),
+                )?;
                 let judged = accepted(&built.mesh);
                 // Every difference inside the components that came out wrong was re-sampled,
                 // and the result is wrong there again, and nowhere else: what makes them differ
@@ -265,7 +270,7 @@ fn resample(
     }
     report.region_cells = surface.len();
     let replacement = replace_whole(
-        (mesh, &old),
+        (mesh, &old, options.carry),
         &grid,
         theta,
         (iso, iso_edges),
@@ -424,7 +429,7 @@ fn summarize(
 
 /// The last resort: every input vertex is removed and Θ's isosurface takes the mesh's place.
 fn replace_whole(
-    (mesh, old): (&Mesh, &Transfer),
+    (mesh, old, carry): (&Mesh, &Transfer, Carry),
     grid: &MeshGrid,
     theta: &Field,
     (mut iso, edges): (IndexedMesh, Vec<GridEdge>),
@@ -438,7 +443,12 @@ fn replace_whole(
         mesh: iso,
         parameters: Default::default(),
     };
-    let recorded = record(grid, &built, &Default::default(), (mesh.next_id(), old))?;
+    let recorded = record(
+        grid,
+        &built,
+        &Default::default(),
+        (mesh.next_id(), old, carry),
+    )?;
     let surface =
         verify(&built.mesh, &recorded, signature(&built.mesh) == target).map_err(|_| {
             TopologyError::Unresolved {

@@ -49,3 +49,4 @@ pub use error::TopologyError;
 pub use field::Field;
 pub use options::TopologyOptions;
 pub use report::{Abandoned, Resampling, TopologyReport};
+pub use transfer::Carry;

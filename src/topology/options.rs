@@ -1,3 +1,5 @@
+use super::transfer::Carry;
+
 /// Parameters of `constrain_topology`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TopologyOptions {
@@ -15,6 +17,8 @@ pub struct TopologyOptions {
     /// input's own topology below the grid afterwards (see `subgrid`): without it every thin sheet
     /// of a fluid is cut away by this step and copied back by that one, frame after frame.
     pub keep_shared_sheets: bool,
+    /// How a vertex a patch creates or deletes takes its data from the surface it replaces.
+    pub carry: Carry,
 }
 
 impl Default for TopologyOptions {
@@ -22,6 +26,7 @@ impl Default for TopologyOptions {
         Self {
             depth: 1,
             keep_shared_sheets: false,
+            carry: Carry::default(),
         }
     }
 }

@@ -28,7 +28,7 @@ use super::build::Built;
 use super::mesh_grid::MeshGrid;
 use super::nearest::Survivors;
 use super::points::Point;
-use super::transfer::Transfer;
+use super::transfer::{Carry, Transfer};
 use crate::mesh::Mutation;
 use crate::project::ProjectError;
 use rustc_hash::{FxHashMap, FxHashSet};
@@ -54,7 +54,7 @@ pub(crate) fn record(
     grid: &MeshGrid,
     built: &Built,
     splits: &FxHashMap<u32, Vec<(u8, i32)>>,
-    (next_id, old): (u64, &Transfer),
+    (next_id, old, carry): (u64, &Transfer, Carry),
 ) -> Result<Recorded, ProjectError> {
     let input = grid.mesh;
     let n_in = input.positions.len();
@@ -186,11 +186,12 @@ pub(crate) fn record(
             .copied()
             .collect::<Vec<_>>(),
     );
-    let on_patch = patch.terms(
+    let on_patch = patch.read(
         &order
             .iter()
             .map(|&d| input.positions[d as usize])
             .collect::<Vec<_>>(),
+        carry,
     )?;
     let mut deletions: Vec<Mutation> = Vec::new();
     let reached: FxHashSet<u32> = order.iter().copied().collect();
@@ -248,11 +249,12 @@ pub(crate) fn record(
     let (order, rules) = march(&fill, |v| adjacent.get(&v).unwrap_or(&empty));
     // Going forward, a fill vertex reads the old surface (`old`, over the input) at its closest
     // point.
-    let on_replaced = old.terms(
+    let on_replaced = old.read(
         &order
             .iter()
             .map(|&v| built.mesh.positions[v as usize])
             .collect::<Vec<_>>(),
+        carry,
     )?;
     for ((&v, terms), closest) in order.iter().zip(&rules).zip(&on_replaced) {
         let sources = if closest.is_empty() {

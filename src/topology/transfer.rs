@@ -4,10 +4,11 @@
 //! boundary, and a deleted vertex likewise going backward. On a fluid, whose surface is
 //! re-sampled somewhere every frame, those averages blur a texture a little more each time. Here
 //! a vertex a patch creates takes its data from the surface the patch replaces at its closest
-//! point — the barycentric combination of that triangle's corners — and a vertex the patch
-//! deletes takes, going backward, the data of the new surface at its own closest point. Where the
-//! new surface lies on the old one the values come back exactly; they blend only across one
-//! triangle, never across the patch.
+//! point, and a vertex the patch deletes takes, going backward, the data of the new surface at its
+//! own closest point: by default the value of the closest triangle's corner nearest that point,
+//! whole, or, with [`Carry::Blend`], the barycentric combination of its corners, which is exact
+//! for data linear over the surface (UVs) but blurs a texture across one triangle each time the
+//! same place is re-sampled (see [`Carry`]).
 
 use std::borrow::Cow;
 use std::cell::OnceCell;
@@ -15,6 +16,7 @@ use std::cell::OnceCell;
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 use rustc_hash::FxHashSet;
+use serde::{Deserialize, Serialize};
 
 use super::nearest::Survivors;
 
@@ -146,22 +148,52 @@ impl<'a> Transfer<'a> {
         Self::new(positions, kept)
     }
 
-    /// For each of `points`, the corner of the nearest triangle with the largest barycentric
-    /// weight at the closest point (the lowest index among equals), or nothing when there are no
-    /// triangles: the closest point's vertex without blending the triangle's corners. A point
-    /// just off a sheet thinner than an edge reads its own side this way, where the nearest
-    /// vertex in space may lie on the other.
-    pub fn nearest_corners(&self, points: &[Vec3]) -> Result<Vec<Option<u32>>, ProjectError> {
+    /// For each of `points`, what a vertex there takes from the triangles under `carry`: the
+    /// corners of the nearest triangle with their weights at the closest point, or the one corner
+    /// of largest weight (see [`Carry`]); nothing when there are no triangles.
+    pub fn read(
+        &self,
+        points: &[Vec3],
+        carry: Carry,
+    ) -> Result<Vec<Vec<(u32, f32)>>, ProjectError> {
         Ok(self
             .terms(points)?
             .into_iter()
-            .map(|terms| {
-                terms
-                    .into_iter()
-                    .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
-                    .map(|(v, _)| v)
-            })
+            .map(|terms| carry.terms(terms))
             .collect())
+    }
+}
+
+/// How a vertex that re-sampling creates (or, going backward, deletes) takes its data from the
+/// surface at its closest point. Both read the triangle holding the closest point, so a vertex
+/// just off a sheet thinner than an edge reads its own side, where the vertex nearest in space
+/// may lie on the other.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Carry {
+    /// The value of the triangle's corner nearest the closest point (the largest barycentric
+    /// weight, the lowest index among equals), whole. A fluid's splash is re-sampled frame after
+    /// frame; a value taken whole each time stays crisp (a carried checker on the SPH dam break
+    /// is 83.9% crisp at the last frame, 72.8% blended), at the price of moving by up to half an
+    /// edge where it is re-sampled.
+    #[default]
+    Corner,
+    /// The corners' barycentric blend at the closest point: exact for data linear over the
+    /// surface (UVs, rest positions, smooth fields), a blur for data that changes within a
+    /// triangle, which grows each time the same place is re-sampled.
+    Blend,
+}
+
+impl Carry {
+    /// What a vertex takes from the closest point's barycentric `terms`.
+    pub fn terms(self, terms: Vec<(u32, f32)>) -> Vec<(u32, f32)> {
+        match self {
+            Carry::Blend => terms,
+            Carry::Corner => terms
+                .into_iter()
+                .max_by(|a, b| a.1.total_cmp(&b.1).then(b.0.cmp(&a.0)))
+                .map(|(v, _)| vec![(v, 1.0)])
+                .unwrap_or_default(),
+        }
     }
 }
 
@@ -222,7 +254,7 @@ mod tests {
 
     /// A slab 0.05 thick: its top one square of two triangles with corners 1 apart, its bottom
     /// split into a fine grid. A point just above the top's middle lies nearest, in space, to a
-    /// bottom vertex; it reads a top corner, blended or not.
+    /// bottom vertex; it reads the top: its nearest corner whole, or the corners blended.
     #[test]
     fn a_point_off_a_thin_sheet_reads_its_own_side() {
         let mut positions = vec![
@@ -257,8 +289,11 @@ mod tests {
             nearest_in_space >= 4,
             "the nearest vertex lies on the bottom"
         );
-        assert_eq!(transfer.nearest_corners(&[p]).unwrap(), vec![Some(0)]);
-        let terms = &transfer.terms(&[p]).unwrap()[0];
+        assert_eq!(
+            transfer.read(&[p], Carry::Corner).unwrap(),
+            vec![vec![(0, 1.0)]]
+        );
+        let terms = &transfer.read(&[p], Carry::Blend).unwrap()[0];
         assert!(terms.iter().all(|&(v, _)| v < 4), "{terms:?}");
         let sum: f32 = terms.iter().map(|t| t.1).sum();
         assert!((sum - 1.0).abs() < 1e-6);

@@ -333,7 +333,7 @@ impl Tracker {
                 self.grid.spacing(),
                 self.options.max_distance * self.params.edge_length,
             ),
-            self.options.fidelity,
+            (self.options.fidelity, self.options.topology.carry),
             &self.params,
         )
         .map_err(|e| TrackError::at(frame, e))?;

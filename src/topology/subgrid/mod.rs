@@ -28,9 +28,10 @@
 //! takes its data going backward from the component's result at its closest point, and each
 //! vertex of the copy takes, going forward, the data of the component it replaces at its closest
 //! point; an inserted droplet reads the whole surface before the change, a deleted one the whole
-//! surface after it. The value is that of the closest triangle's corner nearest the closest point,
-//! unblended (`rebuild` says why). So every vertex of every frame holds a value (unless a whole
-//! frame is empty), a constant channel stays constant, and colours stay where they were.
+//! surface after it, each as the caller's [`Carry`] says: the closest triangle's nearest corner
+//! whole, or its corners blended. So every vertex of every frame holds a value (unless a whole
+//! frame is empty), a constant channel stays constant (up to the rounding of a blend), and
+//! colours stay where they were.
 
 mod decide;
 mod earlier;
@@ -46,6 +47,7 @@ use crate::grid::RasterError;
 use crate::improve::{ImproveError, ImproveParams, improve};
 use crate::mesh::{IndexedMesh, Mesh, MeshError};
 use crate::project::{Bvh, ProjectError};
+use crate::topology::Carry;
 use earlier::Earlier;
 use matching::{Components, InputDistances};
 use serde::{Deserialize, Serialize};
@@ -126,20 +128,22 @@ struct Surfaces<'a> {
     max_distance: f32,
     /// What an earlier call in this frame measured between the input and the tracked surface.
     earlier: Option<&'a Earlier>,
+    /// How the copies and the deleted vertices take their data.
+    carry: Carry,
 }
 
 /// Makes `mesh`'s components agree with `target`'s where the grid of spacing `spacing` cannot
 /// (see the module comment); `max_distance` (world units) is the farthest either surface may lie
 /// from the other. `bvh` is built over `target`. The change goes through `Mesh::replace`, whose
 /// record lists creations first, then deletions. Returns what changed; `mesh` is untouched when
-/// nothing does.
+/// nothing does. `carry` says how the copies and the deleted vertices take their data.
 pub fn match_below_grid(
     backend: &Backend,
     mesh: &mut Mesh,
     (target, bvh): (&IndexedMesh, &Bvh),
     spacing: f32,
     max_distance: f32,
-    fidelity: Fidelity,
+    (fidelity, carry): (Fidelity, Carry),
 ) -> Result<SubgridCounts, SubgridError> {
     let input = InputDistances::new(bvh);
     match_against(
@@ -147,7 +151,7 @@ pub fn match_below_grid(
         mesh,
         (target, &input),
         (spacing, max_distance),
-        fidelity,
+        (fidelity, carry),
         &mut None,
     )
 }
@@ -160,7 +164,7 @@ fn match_against(
     mesh: &mut Mesh,
     (target, input): (&IndexedMesh, &InputDistances),
     (spacing, max_distance): (f32, f32),
-    fidelity: Fidelity,
+    (fidelity, carry): (Fidelity, Carry),
     earlier: &mut Option<Earlier>,
 ) -> Result<SubgridCounts, SubgridError> {
     let current = mesh.to_indexed();
@@ -175,6 +179,7 @@ fn match_against(
         spacing,
         max_distance,
         earlier: earlier.as_ref(),
+        carry,
     };
     let matched = matching::match_components(
         backend,
@@ -220,7 +225,7 @@ pub fn match_and_improve(
     mesh: &mut Mesh,
     target: (&IndexedMesh, &Bvh),
     (spacing, max_distance): (f32, f32),
-    fidelity: Fidelity,
+    (fidelity, carry): (Fidelity, Carry),
     params: &ImproveParams,
 ) -> Result<SubgridReport, SubgridError> {
     let mut report = SubgridReport::default();
@@ -236,14 +241,15 @@ pub fn match_and_improve(
     let target = (target.0, &input);
     let bounds = (spacing, max_distance);
     let mut earlier = None;
-    let mut counts = match_against(backend, mesh, target, bounds, fidelity, &mut earlier)?;
+    let policy = (fidelity, carry);
+    let mut counts = match_against(backend, mesh, target, bounds, policy, &mut earlier)?;
     improve_timed(mesh)?;
     let mut grafted = counts.grafted;
     for round in 0..=RECHECKS {
         if grafted == 0 {
             break;
         }
-        let recheck = match_against(backend, mesh, target, bounds, fidelity, &mut earlier)?;
+        let recheck = match_against(backend, mesh, target, bounds, policy, &mut earlier)?;
         grafted = recheck.grafted;
         if !recheck.changed() {
             break;

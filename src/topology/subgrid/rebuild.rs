@@ -1,14 +1,9 @@
 //! The surface the plan gives and its record (paper §4.4): the kept tracked triangles, then per
-//! input component its copied triangles and the strips joining them to the kept ones. Each new
-//! vertex takes its data from the surface it replaces at its closest point, and each deleted one,
-//! going backward, from what replaces it at its own (`topology::transfer`): the data of the
-//! closest triangle's corner that the closest point lies nearest to. On a splash sheet thinner
-//! than an edge the vertex nearest in space may lie on the sheet's other side; the closest
-//! triangle does not. The corner's value is taken whole rather than the corners' barycentric
-//! blend that a topology patch takes: the sub-grid match re-samples the same splash frame after
-//! frame, and blending there at every frame smears a texture (a carried checker crisp at the last
-//! frame: 72.8% blended against 80.0% so on the dam break, 68.1% against 72.4% on the DFSPH
-//! double dam break).
+//! input component its copied triangles and the strips joining them to the kept ones. As in a
+//! topology patch, each new vertex takes its data from the surface it replaces at its closest
+//! point, and each deleted one, going backward, from what replaces it at its own, as the
+//! tracker's `Carry` says (`topology::transfer`). On a splash sheet thinner than an edge the
+//! vertex nearest in space may lie on the sheet's other side; the closest triangle does not.
 
 use glam::Vec3;
 
@@ -16,7 +11,7 @@ use super::decide::Plan;
 use super::graft::Corner;
 use super::{SubgridError, Surfaces};
 use crate::mesh::{IndexedMesh, Mesh, Mutation, Replacement};
-use crate::topology::transfer::Transfer;
+use crate::topology::transfer::{Carry, Transfer};
 
 /// The replacement `plan` stands for; created vertices take ids from `next_id` on. Fails when the
 /// assembled surface is not a closed, oriented 2-manifold.
@@ -25,7 +20,7 @@ pub(super) fn replacement(
     plan: &Plan,
     next_id: u64,
 ) -> Result<Replacement, SubgridError> {
-    let (current, target, spacing) = (s.current, s.target, s.spacing);
+    let (current, target, spacing, carry) = (s.current, s.target, s.spacing, s.carry);
     let (ours, our_labels) = (&s.ours.list, &s.ours.labels);
     let (theirs, their_triangles) = (&s.theirs.list, &s.theirs.triangles);
     let (delete, insert, grafts, replaces) =
@@ -114,12 +109,12 @@ pub(super) fn replacement(
     };
     let copied: Vec<Vec<u32>> = copying.iter().map(|&k| copies_of(k)).collect();
     let copied_at = |i: usize| copied[i].iter().map(|&v| target.positions[v as usize]);
-    let mut sources: Vec<Vec<Option<u32>>> = vec![Vec::new(); copying.len()];
+    let mut sources: Vec<Vec<Vec<(u32, f32)>>> = vec![Vec::new(); copying.len()];
     let inserted: Vec<usize> = (0..copying.len())
         .filter(|&i| replaces[copying[i]].is_empty())
         .collect();
-    read_corners(
-        (&current.positions, &current.triangles, spacing),
+    read_sources(
+        (&current.positions, &current.triangles, spacing, carry),
         &inserted,
         copied_at,
         &mut sources,
@@ -130,8 +125,8 @@ pub(super) fn replacement(
             .flat_map(|&c| &s.ours.triangles[c])
             .map(|&t| current.triangles[t as usize])
             .collect();
-        read_corners(
-            (&current.positions, &replaced, spacing),
+        read_sources(
+            (&current.positions, &replaced, spacing, carry),
             &[i],
             copied_at,
             &mut sources,
@@ -146,7 +141,7 @@ pub(super) fn replacement(
             new_ids.push(next_id);
             record.push(Mutation::PatchCreated {
                 created: next_id,
-                sources: source.map(|u| vec![(id_of(u), 1.0)]).unwrap_or_default(),
+                sources: source.into_iter().map(|(u, w)| (id_of(u), w)).collect(),
             });
             next_id += 1;
         }
@@ -180,7 +175,7 @@ pub(super) fn replacement(
             (c, vertices.filter(|&v| !keep[v as usize]).collect())
         })
         .collect();
-    let mut sources: Vec<Vec<Option<u32>>> = vec![Vec::new(); gone.len()];
+    let mut sources: Vec<Vec<Vec<(u32, f32)>>> = vec![Vec::new(); gone.len()];
     let mut readers: Vec<Option<usize>> = gone.iter().map(|(c, _)| group_of[*c]).collect();
     readers.sort_unstable();
     readers.dedup();
@@ -192,8 +187,8 @@ pub(super) fn replacement(
             Some(k) => &result_of[k],
             None => &triangles,
         };
-        read_corners(
-            (&positions, surface, spacing),
+        read_sources(
+            (&positions, surface, spacing, carry),
             &asking,
             |i| gone[i].1.iter().map(|&v| current.positions[v as usize]),
             &mut sources,
@@ -204,8 +199,9 @@ pub(super) fn replacement(
             record.push(Mutation::PatchDeleted {
                 deleted: id_of(v),
                 sources: source
-                    .map(|i| vec![(new_ids[i as usize], 1.0)])
-                    .unwrap_or_default(),
+                    .into_iter()
+                    .map(|(i, w)| (new_ids[i as usize], w))
+                    .collect(),
             });
         }
     }
@@ -217,22 +213,22 @@ pub(super) fn replacement(
     })
 }
 
-/// For each list `i` of `asking`, the nearest corners (`Transfer::nearest_corners`) on `surface`
-/// (triangles over `positions`, with the cell size of `Transfer::around`) of the points `at(i)`,
-/// into `sources[i]`: every list reading one surface is asked at once, through one tree over
-/// the triangles around them all.
-fn read_corners<I: Iterator<Item = Vec3>>(
-    (positions, surface, cell): (&[Vec3], &[[u32; 3]], f32),
+/// For each list `i` of `asking`, what the points `at(i)` take from `surface` (triangles over
+/// `positions`) under `carry` (`Transfer::read`), into `sources[i]`: every list reading one
+/// surface is asked at once, through one tree over the triangles around them all
+/// (`Transfer::around`, with cells of size `cell`).
+fn read_sources<I: Iterator<Item = Vec3>>(
+    (positions, surface, cell, carry): (&[Vec3], &[[u32; 3]], f32, Carry),
     asking: &[usize],
     at: impl Fn(usize) -> I,
-    sources: &mut [Vec<Option<u32>>],
+    sources: &mut [Vec<Vec<(u32, f32)>>],
 ) -> Result<(), SubgridError> {
     if asking.is_empty() {
         return Ok(());
     }
     let points: Vec<Vec3> = asking.iter().flat_map(|&i| at(i)).collect();
     let mut found = Transfer::around(positions, surface, &points, cell)
-        .nearest_corners(&points)?
+        .read(&points, carry)?
         .into_iter();
     for &i in asking {
         sources[i] = found.by_ref().take(at(i).count()).collect();
