@@ -10,7 +10,7 @@ use surftrack::compute::Backend;
 use surftrack::grid::{GridFrame, ScalarGrid, marching_cubes};
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::project::{Bvh, closest_points};
-use surftrack::topology::{Field, TopologyOptions, constrain_topology};
+use surftrack::topology::{Carry, Field, TopologyOptions, constrain_topology};
 use topology_support::{Case, Kind, Outcome, check, euler_list};
 
 fn frame() -> GridFrame {
@@ -392,21 +392,22 @@ fn a_mesh_within_a_cell_of_its_target_is_left_alone() {
     }
 }
 
-/// A linear field carried through `constrain_topology(mesh, theta)`: the largest amount, over the
-/// vertices the step created, by which the carried value misses the field at the vertex beyond what
-/// the field changes over the vertex's distance to the old surface, relative to the field's
-/// gradient (a length, in grid steps).
-fn linear_field_miss(mesh: &IndexedMesh, theta: &Field) -> f32 {
-    let gradient = Vec3::new(1.0, 2.0, -3.0);
+/// A linear field carried through `constrain_topology(mesh, theta)` under `carry`: per vertex the
+/// step created, its position, the value it carries, and its distance to the old surface.
+fn carried_linear_field(mesh: &IndexedMesh, theta: &Field, carry: Carry) -> Vec<(Vec3, f32, f32)> {
     let mut m = Mesh::from_indexed(mesh).unwrap();
     let channel = m.add_attribute("f", 1, 0.0);
     let slots: Vec<_> = m.vertices().collect();
     for v in slots {
-        let value = gradient.dot(m.position(v));
+        let value = GRADIENT.dot(m.position(v));
         m.attribute_mut(channel, v)[0] = value;
     }
     let before: std::collections::HashSet<u64> = m.vertices().map(|v| m.id(v)).collect();
-    constrain_topology(&mut m, theta, &TopologyOptions::default()).unwrap();
+    let options = TopologyOptions {
+        carry,
+        ..TopologyOptions::default()
+    };
+    constrain_topology(&mut m, theta, &options).unwrap();
     let created: Vec<_> = m
         .vertices()
         .filter(|&v| !before.contains(&m.id(v)))
@@ -419,18 +420,27 @@ fn linear_field_miss(mesh: &IndexedMesh, theta: &Field) -> f32 {
         .iter()
         .zip(&points)
         .zip(&old)
-        .map(|((&v, &p), hit)| {
-            let miss = (m.attribute(channel, v)[0] - gradient.dot(p)).abs() / gradient.length();
-            miss - hit.distance.abs()
-        })
+        .map(|((&v, &p), hit)| (p, m.attribute(channel, v)[0], hit.distance.abs()))
+        .collect()
+}
+
+/// The gradient of the linear field the patch tests carry.
+const GRADIENT: Vec3 = Vec3::new(1.0, 2.0, -3.0);
+
+/// The largest amount, over the created vertices, by which the carried value misses the field at
+/// the vertex beyond what the field changes over the vertex's distance to the old surface,
+/// relative to the field's gradient (a length, in grid steps).
+fn linear_field_miss(carried: &[(Vec3, f32, f32)]) -> f32 {
+    carried
+        .iter()
+        .map(|&(p, value, distance)| (value - GRADIENT.dot(p)).abs() / GRADIENT.length() - distance)
         .fold(f32::MIN, f32::max)
 }
 
-/// New patch vertices read the surface the patch replaces at their closest point (barycentric on
-/// its triangles), not an average of the patch boundary: a linear field comes through exactly,
-/// up to the field's change between the vertex and the old surface.
-#[test]
-fn a_patch_takes_the_replaced_surface_at_its_closest_points() {
+/// Overlapping spheres merged by their own distance field (Φ(M)), and a hole punched through one
+/// of them (Φ(T)): the two re-samplings the patch tests carry a field through, each with the
+/// surface replaced.
+fn merged_and_punched() -> [(IndexedMesh, Field); 2] {
     let r = 4.0;
     let centres = [Vec3::new(-r + 1.0, 0.1, 0.0), Vec3::new(r - 1.0, 0.0, 0.2)];
     let a = surface(ball(centres[0], r), 0.9);
@@ -440,15 +450,49 @@ fn a_patch_takes_the_replaced_surface_at_its_closest_points() {
     both.positions.extend(&b.positions);
     both.triangles
         .extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
-    // Overlapping spheres merged by their own distance field (Φ(M)), and a hole punched through
-    // one of them (Φ(T)).
-    let merged = linear_field_miss(&both, &phi(&both));
+    let merge = phi(&both);
     let holed = sampled(move |p: Vec3| {
         ball(centres[0], r)(p).max(1.2 - Vec3::new(p.x - centres[0].x, p.y, 0.0).length())
     });
-    let punched = linear_field_miss(&a, &holed);
-    println!("linear field missed by {merged} (merge) and {punched} (hole) grid steps");
-    assert!(merged <= 1e-3 && punched <= 1e-3);
+    [(both, merge), (a, holed)]
+}
+
+/// With `Carry::Blend`, new patch vertices read the surface the patch replaces at their closest
+/// point (barycentric on its triangles), not an average of the patch boundary: a linear field
+/// comes through exactly, up to the field's change between the vertex and the old surface.
+#[test]
+fn a_patch_takes_the_replaced_surface_at_its_closest_points() {
+    for (mesh, theta) in merged_and_punched() {
+        let miss = linear_field_miss(&carried_linear_field(&mesh, &theta, Carry::Blend));
+        println!("linear field missed by {miss} grid steps");
+        assert!(miss <= 1e-3, "{miss}");
+    }
+}
+
+/// With `Carry::Corner` (the default), every new vertex off the old surface (the patch's fill;
+/// the cut's points lie on the old edges, and take their ends' blend as a split does) carries
+/// the value of one old vertex whole, one no farther from it than its distance to the old
+/// surface and an edge: a corner of the triangle holding its closest point, never a blend.
+#[test]
+fn a_patch_takes_a_corner_of_the_closest_triangle_whole() {
+    for (mesh, theta) in merged_and_punched() {
+        let longest = mesh
+            .triangles
+            .iter()
+            .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
+            .map(|(a, b)| mesh.positions[a as usize].distance(mesh.positions[b as usize]))
+            .fold(0.0f32, f32::max);
+        let carried = carried_linear_field(&mesh, &theta, Carry::Corner);
+        let off: Vec<_> = carried.iter().filter(|c| c.2 > 1e-3).collect();
+        assert!(!off.is_empty(), "no new vertex off the old surface");
+        for &&(p, value, distance) in &off {
+            let whole = mesh.positions.iter().any(|&q| {
+                (GRADIENT.dot(q) - value).abs() <= 1e-5 * GRADIENT.length()
+                    && q.distance(p) <= distance + longest + 1e-4
+            });
+            assert!(whole, "{p}: {value} is no nearby old vertex's value");
+        }
+    }
 }
 
 /// A sheet thinner than a cell, lying between two planes of grid corners: no corner is inside it,
