@@ -61,7 +61,9 @@ fn resume_refuses_different_arguments_and_force_is_needed_to_overwrite() {
         .output()
         .unwrap();
     assert!(!changed.status.success());
-    assert!(String::from_utf8_lossy(&changed.stderr).contains("differ"));
+    // The error names the parameter that differs, with both values.
+    let said = String::from_utf8_lossy(&changed.stderr);
+    assert!(said.contains("min_angle: 10.0 then, 12.0 now"), "{said}");
 }
 
 /// Issue 8 bar 1 on every synth scene (small resolution for CI): every tracked frame is a closed

@@ -12,6 +12,7 @@ use super::{FrameFormat, Layout, RunState, SequenceError};
 use crate::events::file::decode;
 use crate::io::{ReadOptions, read_frame_with, remove_stale_temporaries};
 use crate::mesh::IndexedMesh;
+use serde::Serialize;
 use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
 
@@ -27,7 +28,7 @@ pub struct ResumePoint<P> {
 
 /// Finds where the run in `layout` continues; `input`, `format` and `params` must be the
 /// interrupted run's. Temporary files of writes the interruption cut short are removed.
-pub fn resume_point<P: DeserializeOwned + PartialEq>(
+pub fn resume_point<P: DeserializeOwned + PartialEq + Serialize>(
     layout: &Layout,
     input: &[PathBuf],
     format: FrameFormat,

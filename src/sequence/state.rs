@@ -5,6 +5,7 @@ use super::{FrameFormat, SequenceError};
 use crate::track::FrameLog;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
+use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 /// Version of `track.json`.
@@ -42,7 +43,34 @@ pub struct Written {
     pub next_id: u64,
 }
 
-impl<P: DeserializeOwned + PartialEq> RunState<P> {
+/// The parameters that differ between the run's `then` and `now`, each with both values, as
+/// their serialized names say them (`transfer: "Blend" then, "Corner" now`): what a user must
+/// pass again to resume.
+fn differing<P: Serialize>(then: &P, now: &P) -> String {
+    let (Ok(Value::Object(then)), Ok(Value::Object(now))) =
+        (serde_json::to_value(then), serde_json::to_value(now))
+    else {
+        return "not comparable field by field".into();
+    };
+    let mut names: Vec<&String> = then.keys().chain(now.keys()).collect();
+    names.sort_unstable();
+    names.dedup();
+    let shown = |v: Option<&Value>| v.map_or("unset".to_string(), Value::to_string);
+    names
+        .into_iter()
+        .filter(|name| then.get(*name) != now.get(*name))
+        .map(|name| {
+            format!(
+                "{name}: {} then, {} now",
+                shown(then.get(name)),
+                shown(now.get(name))
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+impl<P: DeserializeOwned + PartialEq + Serialize> RunState<P> {
     /// The state at `path`, checked to describe the same run as `input`, `format` and `params`,
     /// with at least one complete frame and figures that agree with each other.
     pub fn load_matching(
@@ -69,10 +97,16 @@ impl<P: DeserializeOwned + PartialEq> RunState<P> {
                 state.version
             )));
         }
-        if state.input != input || state.params != *params || state.format != format {
+        if state.input != input || state.format != format {
             return Err(bad(
-                "the input frames or parameters differ from the interrupted run's; resume with the same arguments".into(),
+                "the input frames or the frame format differ from the interrupted run's; resume with the same arguments".into(),
             ));
+        }
+        if state.params != *params {
+            return Err(bad(format!(
+                "parameters differ from the interrupted run's ({}); resume with the same arguments",
+                differing(&state.params, params)
+            )));
         }
         if state.completed == 0 {
             return Err(bad(
