@@ -95,56 +95,16 @@ impl<'a> Transfer<'a> {
 
 impl<'a> Transfer<'a> {
     /// A transfer over the triangles of `triangles` that may hold the closest point of one of
-    /// `points`, which queries of those points answer as the whole surface would: a point's
-    /// closest point lies no farther than its nearest corner, at distance `r`, so the triangle
-    /// holding it has a bounding box meeting the cube of half-side `r` around the point. Boxes
-    /// and cubes are compared by the cells of spacing `cell` they cover. The tree over a
-    /// re-sampled region's surroundings costs a fraction of one over the whole surface; where a
-    /// point lies farther than [`AROUND_CELLS`] cells from every corner, every triangle is kept.
+    /// `points` ([`triangles_around`]), which queries of those points answer as the whole
+    /// surface would. The tree over a re-sampled region's surroundings costs a fraction of one
+    /// over the whole surface.
     pub fn around(
         positions: &'a [Vec3],
         triangles: &[[u32; 3]],
         points: &[Vec3],
         cell: f32,
     ) -> Self {
-        let mut corners: Vec<u32> = triangles.iter().flatten().copied().collect();
-        corners.par_sort_unstable();
-        corners.dedup();
-        let nearest = Survivors::new(corners.iter().map(|&v| (v, positions[v as usize])), cell);
-        let reach: Vec<Option<f32>> = nearest
-            .nearest_each(points.par_iter().copied())
-            .into_iter()
-            .zip(points)
-            .map(|(v, p)| v.map(|v| positions[v as usize].distance(*p)))
-            .collect();
-        let key = |p: Vec3| (p / cell).floor().as_ivec3();
-        let mut near: FxHashSet<IVec3> = FxHashSet::default();
-        for (p, r) in points.iter().zip(&reach) {
-            let Some(r) = *r else { continue };
-            let (low, high) = (key(*p - Vec3::splat(r)), key(*p + Vec3::splat(r)));
-            if (high - low).max_element() > AROUND_CELLS {
-                return Self::new(positions, triangles.to_vec());
-            }
-            for x in low.x..=high.x {
-                for y in low.y..=high.y {
-                    for z in low.z..=high.z {
-                        near.insert(IVec3::new(x, y, z));
-                    }
-                }
-            }
-        }
-        let kept: Vec<[u32; 3]> = triangles
-            .par_iter()
-            .filter(|t| {
-                let [a, b, c] = t.map(|v| positions[v as usize]);
-                let (low, high) = (key(a.min(b).min(c)), key(a.max(b).max(c)));
-                (low.x..=high.x).any(|x| {
-                    (low.y..=high.y)
-                        .any(|y| (low.z..=high.z).any(|z| near.contains(&IVec3::new(x, y, z))))
-                })
-            })
-            .copied()
-            .collect();
+        let kept = triangles_around((positions, triangles), points, cell, f32::INFINITY);
         Self::new(positions, kept)
     }
 
@@ -197,7 +157,59 @@ impl Carry {
     }
 }
 
-/// How many cells across the cube around a point [`Transfer::around`] keeps triangles in may
+/// The triangles of `triangles` (over `positions`) that may hold the closest point, within
+/// `reach`, of one of `points`: a point's closest point lies no farther than its nearest corner,
+/// at distance `r`, so the triangle holding it has a bounding box meeting the cube of half-side
+/// `min(r, reach)` around the point (a triangle beyond `reach` is no answer either). Boxes and
+/// cubes are compared by the cells of spacing `cell` they cover. Where a cube spans more than
+/// [`AROUND_CELLS`] cells, every triangle is kept.
+pub(crate) fn triangles_around(
+    (positions, triangles): (&[Vec3], &[[u32; 3]]),
+    points: &[Vec3],
+    cell: f32,
+    reach: f32,
+) -> Vec<[u32; 3]> {
+    let mut corners: Vec<u32> = triangles.iter().flatten().copied().collect();
+    corners.par_sort_unstable();
+    corners.dedup();
+    let nearest = Survivors::new(corners.iter().map(|&v| (v, positions[v as usize])), cell);
+    let half: Vec<Option<f32>> = nearest
+        .nearest_each(points.par_iter().copied())
+        .into_iter()
+        .zip(points)
+        .map(|(v, p)| v.map(|v| positions[v as usize].distance(*p).min(reach)))
+        .collect();
+    let key = |p: Vec3| (p / cell).floor().as_ivec3();
+    let mut near: FxHashSet<IVec3> = FxHashSet::default();
+    for (p, r) in points.iter().zip(&half) {
+        let Some(r) = *r else { continue };
+        let (low, high) = (key(*p - Vec3::splat(r)), key(*p + Vec3::splat(r)));
+        if (high - low).max_element() > AROUND_CELLS {
+            return triangles.to_vec();
+        }
+        for x in low.x..=high.x {
+            for y in low.y..=high.y {
+                for z in low.z..=high.z {
+                    near.insert(IVec3::new(x, y, z));
+                }
+            }
+        }
+    }
+    triangles
+        .par_iter()
+        .filter(|t| {
+            let [a, b, c] = t.map(|v| positions[v as usize]);
+            let (low, high) = (key(a.min(b).min(c)), key(a.max(b).max(c)));
+            (low.x..=high.x).any(|x| {
+                (low.y..=high.y)
+                    .any(|y| (low.z..=high.z).any(|z| near.contains(&IVec3::new(x, y, z))))
+            })
+        })
+        .copied()
+        .collect()
+}
+
+/// How many cells across the cube around a point [`triangles_around`] keeps triangles in may
 /// span before it keeps them all.
 const AROUND_CELLS: i32 = 16;
 

@@ -1261,7 +1261,7 @@ fn check(
                             (ours, theirs.mesh),
                             (&left_triangles, &left, &part),
                             nearest,
-                            bounds.max_distance,
+                            (bounds.max_distance, bounds.spacing),
                         )
                     },
                 );

@@ -20,6 +20,7 @@ use super::matching::{TrackedNearest, distances, far_given, within_bound};
 use crate::compute::Backend;
 use crate::mesh::IndexedMesh;
 use crate::project::{Bvh, closest_points};
+use crate::topology::transfer::triangles_around;
 
 /// The samples of `left` (the input triangles `left_triangles` of `theirs`, as a mesh of their
 /// own) farther than `max_distance` from `part`, the result of `graft` of `theirs` into `ours`,
@@ -30,7 +31,7 @@ pub(super) fn far_left_out(
     (ours, theirs): (&IndexedMesh, &IndexedMesh),
     (left_triangles, left, part): (&[u32], &IndexedMesh, &IndexedMesh),
     nearest: &TrackedNearest,
-    max_distance: f32,
+    (max_distance, cell): (f32, f32),
 ) -> Result<Vec<Vec3>, SubgridError> {
     let bounded = within_bound(max_distance);
     // The input vertex of each vertex of `left`, which numbers them in that order.
@@ -56,7 +57,7 @@ pub(super) fn far_left_out(
     let mut trees = Trees {
         tracked: (nearest, &kept),
         fresh: (&fresh, None),
-        whole: (part, None),
+        whole: (part, cell),
     };
     let asked: Vec<Vec3> = open.iter().map(|&k| left.positions[k]).collect();
     let found = trees.measure(backend, &asked, max_distance)?;
@@ -71,12 +72,14 @@ pub(super) fn far_left_out(
 }
 
 /// What a point's distance to the result is measured against: the tracked surface with the
-/// triangles the result keeps, the result's new triangles (copied and strips), and the whole
-/// result, the last two each with its tree once built.
+/// triangles the result keeps, the result's new triangles (copied and strips, with their tree
+/// once built), and the whole result, with the cell size of the trees over its triangles around
+/// the few points left (`triangles_around`: a tree over the whole result, for a handful of
+/// points, was most of a check's time).
 struct Trees<'a> {
     tracked: (&'a TrackedNearest, &'a [bool]),
     fresh: (&'a IndexedMesh, Option<Bvh>),
-    whole: (&'a IndexedMesh, Option<Bvh>),
+    whole: (&'a IndexedMesh, f32),
 }
 
 /// `mesh`'s tree, built on first use.
@@ -140,8 +143,21 @@ impl Trees<'_> {
             }
             rest = still;
         }
-        if !rest.is_empty() {
-            let found = distances_at(backend, tree(&mut self.whole)?, points, &rest, max_distance)?;
+        if rest.is_empty() {
+            return Ok(out);
+        }
+        let (whole, cell) = self.whole;
+        let asked: Vec<Vec3> = rest.iter().map(|&i| points[i]).collect();
+        let near = triangles_around(
+            (&whole.positions, &whole.triangles),
+            &asked,
+            cell,
+            max_distance,
+        );
+        // No triangle near any of them: every one lies beyond the bound.
+        if !near.is_empty() {
+            let bvh = Bvh::build_unsigned(&IndexedMesh::new(whole.positions.clone(), near))?;
+            let found = distances_at(backend, &bvh, points, &rest, max_distance)?;
             for (&i, d) in rest.iter().zip(found) {
                 out[i] = d;
             }
@@ -200,7 +216,7 @@ mod tests {
                 (&ours, &theirs),
                 (&left_triangles, &left, &part),
                 &nearest,
-                max_distance,
+                (max_distance, 0.1),
             )
             .unwrap();
             let whole = Bvh::build_unsigned(&part).unwrap();
