@@ -168,6 +168,37 @@ fn x_values(mesh: &Mesh) -> (Vec<u64>, VertexValues) {
     (ids, values)
 }
 
+/// The distance from `p` to the triangle `t` of `mesh`.
+fn triangle_distance(mesh: &IndexedMesh, t: &[u32; 3], p: Vec3) -> f32 {
+    let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
+    point_triangle_distance(p, a, b, c)
+}
+
+/// The distance from `p` to the surface of `mesh`.
+fn surface_distance(mesh: &IndexedMesh, p: Vec3) -> f32 {
+    mesh.triangles
+        .iter()
+        .map(|t| triangle_distance(mesh, t, p))
+        .fold(f32::INFINITY, f32::min)
+}
+
+/// Carries each vertex's x coordinate through `events` forward from `before` to `after`, then
+/// each of `after`'s back, and checks each direction with `check` (the vertices, their source,
+/// the values, the direction); returns `before`'s ids.
+fn check_x_both_ways(
+    (before, after): (&Mesh, &Mesh),
+    events: &surftrack::events::EventList,
+    check: fn(&Mesh, &Mesh, &VertexValues, &str),
+) -> Vec<u64> {
+    let (ids_before, mut values) = x_values(before);
+    forward(events, &mut values).unwrap();
+    check(after, before, &values, "forward");
+    let (_, mut values) = x_values(after);
+    backward(events, &mut values).unwrap();
+    check(before, after, &values, "backward");
+    ids_before
+}
+
 /// Checks that every vertex of `mesh` carries the x coordinate of a corner of the triangle of
 /// `source` closest to it (of one of them, where several lie within rounding of the closest):
 /// data is read on the surface at the closest point, not from whichever vertex lies nearest in
@@ -177,20 +208,12 @@ fn assert_closest_corner_x(mesh: &Mesh, source: &Mesh, values: &VertexValues, wh
     let ids = out.ids.unwrap();
     assert_eq!(values.len(), ids.len(), "{what}");
     for (&id, p) in ids.iter().zip(&out.positions) {
-        let distance = |t: &[u32; 3]| {
-            let [a, b, c] = t.map(|v| from.positions[v as usize]);
-            point_triangle_distance(*p, a, b, c)
-        };
-        let closest = from
-            .triangles
-            .iter()
-            .map(distance)
-            .fold(f32::INFINITY, f32::min);
+        let closest = surface_distance(&from, *p);
         let value = values.get(id).unwrap()[0];
         let on_closest = from
             .triangles
             .iter()
-            .filter(|t| distance(t) <= closest + 1e-5)
+            .filter(|t| triangle_distance(&from, t, *p) <= closest + 1e-5)
             .flatten()
             .any(|&v| from.positions[v as usize].x == value);
         assert!(
@@ -232,12 +255,7 @@ fn a_large_component_with_another_topology_is_replaced_and_keeps_its_data() {
 
     // Data follows the replacement: each copied vertex takes the value of the replaced surface's
     // closest triangle, at its corner nearest the closest point, and back.
-    let (ids_before, mut values) = x_values(&before);
-    forward(&events, &mut values).unwrap();
-    assert_closest_corner_x(&mesh, &before, &values, "forward");
-    let (_, mut values) = x_values(&mesh);
-    backward(&events, &mut values).unwrap();
-    assert_closest_corner_x(&before, &mesh, &values, "backward");
+    let ids_before = check_x_both_ways((&before, &mesh), &events, assert_closest_corner_x);
     let mut values = constant(&ids_before);
     forward(&events, &mut values).unwrap();
     assert_constant(&values, out.ids.as_deref().unwrap());
@@ -254,12 +272,7 @@ fn a_replaced_component_blends_its_data_when_asked() {
     // x is linear on a triangle: the blend at the closest point gives that point's x, within
     // the distance to the surface read. Taking a corner whole misses by up to the distance to
     // that corner, which this bound catches.
-    let (ids_before, mut values) = x_values(&before);
-    forward(&events, &mut values).unwrap();
-    assert_blended_x(&mesh, &before, &values, "forward");
-    let (_, mut values) = x_values(&mesh);
-    backward(&events, &mut values).unwrap();
-    assert_blended_x(&before, &mesh, &values, "backward");
+    let ids_before = check_x_both_ways((&before, &mesh), &events, assert_blended_x);
     // A constant stays constant, up to the rounding of the blend.
     let mut values = constant(&ids_before);
     forward(&events, &mut values).unwrap();
@@ -281,14 +294,7 @@ fn assert_blended_x(mesh: &Mesh, source: &Mesh, values: &VertexValues, what: &st
     let ids = out.ids.unwrap();
     assert_eq!(values.len(), ids.len(), "{what}");
     for (&id, p) in ids.iter().zip(&out.positions) {
-        let closest = from
-            .triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|v| from.positions[v as usize]);
-                point_triangle_distance(*p, a, b, c)
-            })
-            .fold(f32::INFINITY, f32::min);
+        let closest = surface_distance(&from, *p);
         let error = (values.get(id).unwrap()[0] - p.x).abs();
         assert!(
             error <= closest + 1e-5,

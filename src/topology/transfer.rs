@@ -91,9 +91,7 @@ impl<'a> Transfer<'a> {
             })
             .collect())
     }
-}
 
-impl<'a> Transfer<'a> {
     /// A transfer over the triangles of `triangles` that may hold the closest point of one of
     /// `points` ([`triangles_around`]), which queries of those points answer as the whole
     /// surface would. The tree over a re-sampled region's surroundings costs a fraction of one
