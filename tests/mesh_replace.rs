@@ -116,3 +116,94 @@ fn an_invalid_surface_cannot_be_a_replacement() {
     let err = Mesh::from_indexed(&surface).unwrap_err();
     assert!(matches!(err, MeshError::OpenBoundary { .. }), "{err}");
 }
+
+/// Vertices 0, 1 and 2 of a sphere re-sampled: 0 by a new vertex 0.01 from it that reads it, 1 by
+/// one 0.1 from it that reads it, 2 by one on it that reads a kept neighbour above all.
+fn resampled(mesh: &Mesh) -> (Replacement, [u64; 3], [u64; 3]) {
+    let mut surface = mesh.to_indexed();
+    let first = mesh.next_id();
+    let ids = surface.ids.as_mut().expect("a mesh has ids");
+    let old = [ids[0], ids[1], ids[2]];
+    let new = [first, first + 1, first + 2];
+    let kept = ids[3];
+    ids[..3].copy_from_slice(&new);
+    for (v, shift) in [(0, 0.01), (1, 0.1)] {
+        let p = surface.positions[v];
+        surface.positions[v] = p * (1.0 + shift / p.length());
+    }
+    let record = vec![
+        Mutation::PatchCreated {
+            created: new[0],
+            sources: vec![(kept, 0.25), (old[0], 0.75)],
+        },
+        Mutation::PatchCreated {
+            created: new[1],
+            sources: vec![(old[1], 1.0)],
+        },
+        Mutation::PatchCreated {
+            created: new[2],
+            sources: vec![(old[2], 0.4), (kept, 0.6)],
+        },
+        Mutation::PatchDeleted {
+            deleted: old[0],
+            sources: vec![(new[0], 1.0)],
+        },
+        Mutation::PatchDeleted {
+            deleted: old[1],
+            sources: vec![(new[1], 0.5), (new[0], 0.5)],
+        },
+        Mutation::PatchDeleted {
+            deleted: old[2],
+            sources: vec![(new[2], 1.0)],
+        },
+    ];
+    let surface = Mesh::from_indexed(&surface).unwrap();
+    (Replacement { surface, record }, old, new)
+}
+
+#[test]
+fn a_new_vertex_standing_on_the_removed_vertex_it_reads_continues_it() {
+    let mut mesh = sphere();
+    let x0 = mesh.to_indexed().attributes[0].values[0];
+    let (replacement, old, new) = resampled(&mesh);
+    let (continued, count) = replacement.continuing(&mesh, 0.05);
+    assert_eq!(count, 1);
+    mesh.replace(continued).unwrap();
+    mesh.validate().unwrap();
+    let out = mesh.to_indexed();
+    let ids = out.ids.as_ref().unwrap();
+    let at = |id: u64| ids.iter().position(|&i| i == id);
+    // Vertex 0 stood 0.01 from its new vertex and was read above all: it continues there, with
+    // its value; 1 stood too far, 2 was not what its new vertex read most.
+    let kept = at(old[0]).expect("the old vertex continues");
+    assert!((out.positions[kept].length() - 1.01).abs() < 1e-5);
+    assert_eq!(out.attributes[0].values[kept], x0);
+    assert_eq!(at(new[0]), None);
+    assert!(at(old[1]).is_none() && at(old[2]).is_none());
+    assert!(at(new[1]).is_some() && at(new[2]).is_some());
+    let events = EventList::drain(&mut mesh);
+    events.check().unwrap();
+    let kinds: Vec<EventKind> = events.events.iter().map(|e| e.kind).collect();
+    use EventKind::{PatchCreated, PatchDeleted};
+    assert_eq!(
+        kinds,
+        [PatchCreated, PatchCreated, PatchDeleted, PatchDeleted]
+    );
+    // The removal of 1 read the new vertex 0 going backward: it reads the old id now.
+    let undone = events
+        .events
+        .iter()
+        .find(|e| e.kind == PatchDeleted)
+        .unwrap();
+    assert_eq!(undone.backward[0].target, old[1]);
+    assert_eq!(undone.backward[0].terms, [(new[1], 0.5), (old[0], 0.5)]);
+}
+
+#[test]
+fn without_a_reach_every_resampled_vertex_is_new() {
+    let mesh = sphere();
+    let (replacement, _, _) = resampled(&mesh);
+    let record = replacement.record.clone();
+    let (same, count) = replacement.continuing(&mesh, 0.0);
+    assert_eq!((same.record, count), (record, 0));
+}

@@ -105,6 +105,58 @@ fn a_second_call_changes_nothing() {
     assert!(!o.changed, "Φ of the result re-sampled it");
 }
 
+#[test]
+fn patch_vertices_standing_on_the_vertices_they_replace_continue_them() {
+    // Two balls merging: the patch between them re-samples both sides of the neck.
+    let m = surface(
+        union(
+            ball(Vec3::new(-4.0, 0.0, 0.0), 3.5),
+            ball(Vec3::new(4.2, 0.3, 0.0), 3.5),
+        ),
+        0.8,
+    );
+    let target = sampled(union(
+        ball(Vec3::new(-3.0, 0.0, 0.0), 3.6),
+        ball(Vec3::new(3.2, 0.3, 0.0), 3.6),
+    ));
+    let run = |continue_within: f32| {
+        let mut mesh = Mesh::from_indexed(&m).unwrap();
+        let options = TopologyOptions {
+            continue_within,
+            ..TopologyOptions::default()
+        };
+        constrain_topology(&mut mesh, &target, &options).unwrap();
+        mesh.to_indexed()
+    };
+    let (paper, continued) = (run(0.0), run(0.25));
+    // The same surface; only the ids differ.
+    assert_eq!(paper.positions, continued.positions);
+    assert_eq!(paper.triangles, continued.triangles);
+    let old = m
+        .ids
+        .clone()
+        .unwrap_or_else(|| (0..m.positions.len() as u64).collect());
+    let at: std::collections::HashMap<u64, Vec3> =
+        old.into_iter().zip(m.positions.clone()).collect();
+    let moved = |out: &IndexedMesh| -> Vec<f32> {
+        out.ids
+            .as_ref()
+            .unwrap()
+            .iter()
+            .zip(&out.positions)
+            .filter_map(|(id, p)| at.get(id).map(|q| q.distance(*p)))
+            .filter(|&d| d > 0.0)
+            .collect()
+    };
+    // Without a reach no old vertex moves (paper §4.4); with it, some of the patch's vertices
+    // continue the vertex they stand within a quarter cell of.
+    assert!(moved(&paper).is_empty());
+    let continued = moved(&continued);
+    assert!(continued.len() >= 5, "{continued:?}");
+    let reach = 0.25 * frame().spacing();
+    assert!(continued.iter().all(|&d| d <= reach), "{continued:?}");
+}
+
 /// A cube of side `n` cells whose vertices sit on grid corners, edges on grid edges and faces in
 /// grid planes, each face split into unit squares.
 fn grid_cube(lo: [i32; 3], n: i32) -> IndexedMesh {

@@ -45,7 +45,7 @@ fn run_with(
         ours,
         target,
         (spacing, max_distance),
-        (fidelity, Carry::Corner),
+        (fidelity, Carry::Corner, 0.0),
     )
 }
 
@@ -53,7 +53,7 @@ fn run_carrying(
     ours: &IndexedMesh,
     target: &IndexedMesh,
     (spacing, max_distance): (f32, f32),
-    policy: (Fidelity, Carry),
+    policy: (Fidelity, Carry, f32),
 ) -> (Mesh, Mesh, SubgridCounts, surftrack::events::EventList) {
     let before = Mesh::from_indexed(ours).unwrap();
     let mut mesh = before.clone();
@@ -87,7 +87,8 @@ fn droplets_below_the_grid_follow_the_target() {
             deleted: 1,
             inserted: 1,
             replaced: 0,
-            grafted: 0
+            grafted: 0,
+            continued: 0,
         }
     );
     let out = mesh.to_indexed();
@@ -244,7 +245,8 @@ fn a_large_component_with_another_topology_is_replaced_and_keeps_its_data() {
             deleted: 0,
             inserted: 0,
             replaced: 1,
-            grafted: 0
+            grafted: 0,
+            continued: 0,
         }
     );
     let out = mesh.to_indexed();
@@ -265,7 +267,7 @@ fn a_large_component_with_another_topology_is_replaced_and_keeps_its_data() {
 fn a_replaced_component_blends_its_data_when_asked() {
     let ours = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
     let target = IndexedMesh::torus(0.8, 0.3, 48, 16);
-    let policy = (Fidelity::Input, Carry::Blend);
+    let policy = (Fidelity::Input, Carry::Blend, 0.0);
     let (before, mesh, counts, events) = run_carrying(&ours, &target, (0.25, 0.25), policy);
     assert_eq!(counts.replaced, 1);
     events.check().unwrap();
@@ -285,6 +287,53 @@ fn a_replaced_component_blends_its_data_when_asked() {
             "{id}: {value:?}"
         );
     }
+}
+
+#[test]
+fn a_copied_vertex_standing_on_the_vertex_it_reads_continues_it() {
+    let ours = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
+    let target = IndexedMesh::torus(0.8, 0.3, 48, 16);
+    let (spacing, reach) = (0.25, 0.25);
+    let policy = (Fidelity::Input, Carry::Corner, reach);
+    let (before, mesh, counts, events) = run_carrying(&ours, &target, (spacing, spacing), policy);
+    assert_eq!(counts.replaced, 1);
+    events.check().unwrap();
+    let out = mesh.to_indexed();
+    out.validate().unwrap();
+    assert_eq!(
+        out.positions, target.positions,
+        "the copy's geometry is the input's"
+    );
+    // Some copied vertices stand within a quarter cell of the sphere vertex they read: those
+    // vertices go on there, each at most that far from where it stood.
+    let old = before.to_indexed();
+    let was: std::collections::HashMap<u64, Vec3> =
+        old.ids.unwrap().into_iter().zip(old.positions).collect();
+    let moved: Vec<f32> = out
+        .ids
+        .as_ref()
+        .unwrap()
+        .iter()
+        .zip(&out.positions)
+        .filter_map(|(id, p)| was.get(id).map(|q| q.distance(*p)))
+        .collect();
+    assert!(moved.len() >= 10, "{} continued", moved.len());
+    assert!(moved.len() < was.len());
+    assert!(
+        moved.iter().all(|&d| d <= reach * spacing + 1e-6),
+        "{moved:?}"
+    );
+    // They keep their values, which are what the copy would have read: a corner of the closest
+    // triangle, both ways.
+    let ids_before = check_x_both_ways((&before, &mesh), &events, assert_closest_corner_x);
+    let mut values = constant(&ids_before);
+    forward(&events, &mut values).unwrap();
+    assert_constant(&values, out.ids.as_deref().unwrap());
+    // Without a reach every vertex of the copy is new.
+    let policy = (Fidelity::Input, Carry::Corner, 0.0);
+    let (_, mesh, _, _) = run_carrying(&ours, &target, (spacing, spacing), policy);
+    let ids = mesh.to_indexed().ids.unwrap();
+    assert!(ids.iter().all(|id| !was.contains_key(id)));
 }
 
 /// Checks that every vertex of `mesh` carries the x coordinate of the point of `source` closest
@@ -352,7 +401,8 @@ fn a_local_difference_is_grafted_and_the_rest_keeps_its_vertices() {
             deleted: 0,
             inserted: 0,
             replaced: 0,
-            grafted: 1
+            grafted: 1,
+            continued: 0,
         }
     );
     let out = mesh.to_indexed();
@@ -412,7 +462,8 @@ fn whole_input_fidelity_replaces_instead_of_grafting() {
             deleted: 0,
             inserted: 0,
             replaced: 1,
-            grafted: 0
+            grafted: 0,
+            continued: 0,
         }
     );
     assert_eq!(mesh.to_indexed().positions, target.positions);

@@ -13,8 +13,8 @@ use surftrack::sequence::{
     FrameFormat, FrameSource, Layout, Output, Progress, RunReport, SUMMARY_FILE, Start,
     track_sequence,
 };
-use surftrack::topology::Carry;
 use surftrack::topology::subgrid::Fidelity;
+use surftrack::topology::{CONTINUE_WITHIN, Carry};
 use surftrack::track::{FrameLog, MAX_DISTANCE, Motion, TRACK_MAX_DEVIATION, TrackOptions};
 
 #[derive(Debug, Args)]
@@ -123,6 +123,12 @@ pub struct MethodParams {
     #[arg(long, value_enum, default_value_t = TransferArg::Corner)]
     #[serde(default = "blended")]
     pub transfer: TransferArg,
+    /// Where re-sampling puts a new vertex within this many grid spacings of the old vertex it
+    /// takes its data from, the old vertex continues there with its id and data instead of ending;
+    /// 0 gives every re-sampled vertex a new id.
+    #[arg(long, default_value_t = CONTINUE_WITHIN)]
+    #[serde(default)]
+    pub continue_within: f32,
 }
 
 /// `--fidelity`.
@@ -186,6 +192,7 @@ impl MethodParams {
             TransferArg::Corner => Carry::Corner,
             TransferArg::Blend => Carry::Blend,
         };
+        o.topology.continue_within = self.continue_within;
         o.max_distance = self.max_distance;
         o.fidelity = match self.fidelity {
             FidelityArg::Input => Fidelity::Input,

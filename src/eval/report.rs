@@ -300,6 +300,12 @@ impl EvalReport {
                  on Φ(T) {}, sub-grid match {}",
                 l.improve.lost, l.topology_self.lost, l.topology_target.lost, l.subgrid.lost
             );
+            let _ = writeln!(
+                s,
+                "vertices re-sampled in place, their ids continued (counted as carried): topology \
+                 on Φ(M) {}, on Φ(T) {}, sub-grid match {}",
+                l.topology_self.continued, l.topology_target.continued, l.subgrid.continued
+            );
         }
         if let (Some(last), Some(worst)) = (m.final_drift, m.max_mean_drift_percent) {
             let _ = writeln!(

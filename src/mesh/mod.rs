@@ -2,6 +2,7 @@
 //! tracker mutates (split, collapse, flip) while keeping persistent vertex ids.
 
 mod check;
+mod continuing;
 mod error;
 mod halfedge;
 mod indexed;

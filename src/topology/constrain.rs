@@ -62,8 +62,11 @@ pub fn constrain_topology(
     theta: &Field,
     options: &TopologyOptions,
 ) -> Result<TopologyReport, TopologyError> {
-    let (report, replacement) = resample(mesh, theta, options)?;
+    let (mut report, replacement) = resample(mesh, theta, options)?;
     if let Some(replacement) = replacement {
+        let reach = options.continue_within * theta.frame().spacing();
+        let (replacement, continued) = replacement.continuing(mesh, reach);
+        report.continued = continued;
         mesh.replace(replacement)?;
     }
     Ok(report)

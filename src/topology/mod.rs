@@ -47,6 +47,6 @@ pub use constrain::constrain_topology;
 pub use distance::PHI_HALF_WIDTH;
 pub use error::TopologyError;
 pub use field::Field;
-pub use options::TopologyOptions;
+pub use options::{CONTINUE_WITHIN, TopologyOptions};
 pub use report::{Abandoned, Resampling, TopologyReport};
 pub use transfer::Carry;

@@ -1,7 +1,11 @@
 use super::transfer::Carry;
 
+/// The default `continue_within`: a quarter of a cell, less than registration moves a vertex in
+/// one frame of fluid (median nearest-vertex distance between consecutive inputs: about an edge).
+pub const CONTINUE_WITHIN: f32 = 0.25;
+
 /// Parameters of `constrain_topology`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TopologyOptions {
     /// Differences between the mesh and Θ that lie within this many grid steps (L1) of both
     /// surfaces are shallow and left alone (the paper's "deep cells": only differences deeper than
@@ -19,6 +23,11 @@ pub struct TopologyOptions {
     pub keep_shared_sheets: bool,
     /// How a vertex a patch creates or deletes takes its data from the surface it replaces.
     pub carry: Carry,
+    /// A new vertex of a patch standing within this many grid spacings of the old vertex it takes
+    /// its data from, which the patch removes, continues that vertex (its id and data) instead of
+    /// replacing it (see `Replacement::continuing`); 0 gives every patch vertex a new id, as the
+    /// paper does (§4.4).
+    pub continue_within: f32,
 }
 
 impl Default for TopologyOptions {
@@ -27,6 +36,7 @@ impl Default for TopologyOptions {
             depth: 1,
             keep_shared_sheets: false,
             carry: Carry::default(),
+            continue_within: CONTINUE_WITHIN,
         }
     }
 }

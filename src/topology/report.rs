@@ -32,6 +32,9 @@ pub struct TopologyReport {
     pub deleted: usize,
     pub cut: usize,
     pub patch: usize,
+    /// Input vertices a patch vertex standing on them continued (`TopologyOptions::continue_within`):
+    /// counted in `deleted` as the surgery removed them, yet their ids go on.
+    pub continued: usize,
     /// Euler characteristic of each component of the result, sorted (equal to Θ's isosurface).
     pub euler: Vec<i64>,
     /// Why each earlier attempt was abandoned, in order.

@@ -17,6 +17,10 @@ pub struct Churn {
     pub removed: usize,
     /// Vertices it removed that the frame began with.
     pub lost: usize,
+    /// Vertices its patches would have removed, whose ids a new vertex standing on them continues
+    /// instead (`TopologyOptions::continue_within`): counted in neither `removed` nor `lost`.
+    #[serde(default)]
+    pub continued: usize,
 }
 
 impl Churn {
@@ -25,6 +29,7 @@ impl Churn {
             created: self.created + other.created,
             removed: self.removed + other.removed,
             lost: self.lost + other.lost,
+            continued: self.continued + other.continued,
         }
     }
 

@@ -315,12 +315,12 @@ impl Tracker {
         let t = Instant::now();
         let phi_m = Field::signed_distance(backend, self.grid, &self.mesh.to_indexed())
             .map_err(|e| TrackError::at(frame, e))?;
-        let (merged, span) = self.constrain(frame, &phi_m)?;
+        let (merged, span, continued_self) = self.constrain(frame, &phi_m)?;
         marks.topology_self = span;
         times.topology_self = ms(t.elapsed());
         // Lines 10–11: take the target's topology, ConstrainTopology(M, Φ(T_j)).
         let t = Instant::now();
-        let (constrained, span) = self.constrain(frame, &phi_t)?;
+        let (constrained, span, continued_target) = self.constrain(frame, &phi_t)?;
         marks.topology_target = span;
         times.topology_target = ms(t.elapsed());
         // What the grid cannot see, then line 12: improve (with the match's re-check).
@@ -333,7 +333,11 @@ impl Tracker {
                 self.grid.spacing(),
                 self.options.max_distance * self.params.edge_length,
             ),
-            (self.options.fidelity, self.options.topology.carry),
+            (
+                self.options.fidelity,
+                self.options.topology.carry,
+                self.options.topology.continue_within,
+            ),
             &self.params,
         )
         .map_err(|e| TrackError::at(frame, e))?;
@@ -343,7 +347,10 @@ impl Tracker {
         marks.improve.extend(matched.improve_records);
 
         // Every stage changed the mesh through its mutations: one drain gives the frame's events.
-        let churn = marks.churn(self.mesh.journal_since(0), &before);
+        let mut churn = marks.churn(self.mesh.journal_since(0), &before);
+        churn.topology_self.continued = continued_self;
+        churn.topology_target.continued = continued_target;
+        churn.subgrid.continued = matched.counts.continued;
         let events = EventList::drain(&mut self.mesh);
         self.mesh.compact();
         let residual = self.residual(backend, &bvh, frame, &mut times)?;
@@ -394,13 +401,13 @@ impl Tracker {
         Ok((converged, phi_t))
     }
 
-    /// `ConstrainTopology(M, Θ)` (paper §4.3); whether it changed the mesh, and where its records
-    /// lie in the journal.
+    /// `ConstrainTopology(M, Θ)` (paper §4.3); whether it changed the mesh, where its records
+    /// lie in the journal, and how many vertices its patches continued.
     fn constrain(
         &mut self,
         frame: usize,
         theta: &Field,
-    ) -> Result<(bool, Range<usize>), TrackError> {
+    ) -> Result<(bool, Range<usize>, usize), TrackError> {
         let mark = self.mesh.journal_len();
         // Where the sub-grid match follows, the sheets it would copy back are kept.
         let options = TopologyOptions {
@@ -409,7 +416,11 @@ impl Tracker {
         };
         let report = constrain_topology(&mut self.mesh, theta, &options)
             .map_err(|e| TrackError::at(frame, e))?;
-        Ok((report.changed(), mark..self.mesh.journal_len()))
+        Ok((
+            report.changed(),
+            mark..self.mesh.journal_len(),
+            report.continued,
+        ))
     }
 
     /// Improves the mesh (paper §4.1), adding its time; where its records lie in the journal.

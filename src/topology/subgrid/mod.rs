@@ -92,6 +92,10 @@ pub struct SubgridCounts {
     /// Components of `M` that took their match's triangles only where the two differ.
     #[serde(default)]
     pub grafted: usize,
+    /// Vertices of `M` that a copied vertex standing on them continued (see
+    /// `Replacement::continuing`): removed by the match, yet their ids go on.
+    #[serde(default)]
+    pub continued: usize,
 }
 
 impl SubgridCounts {
@@ -143,7 +147,7 @@ pub fn match_below_grid(
     (target, bvh): (&IndexedMesh, &Bvh),
     spacing: f32,
     max_distance: f32,
-    (fidelity, carry): (Fidelity, Carry),
+    (fidelity, carry, continue_within): (Fidelity, Carry, f32),
 ) -> Result<SubgridCounts, SubgridError> {
     let input = InputDistances::new(bvh);
     match_against(
@@ -151,7 +155,7 @@ pub fn match_below_grid(
         mesh,
         (target, &input),
         (spacing, max_distance),
-        (fidelity, carry),
+        (fidelity, carry, continue_within),
         &mut None,
     )
 }
@@ -164,7 +168,7 @@ fn match_against(
     mesh: &mut Mesh,
     (target, input): (&IndexedMesh, &InputDistances),
     (spacing, max_distance): (f32, f32),
-    (fidelity, carry): (Fidelity, Carry),
+    (fidelity, carry, continue_within): (Fidelity, Carry, f32),
     earlier: &mut Option<Earlier>,
 ) -> Result<SubgridCounts, SubgridError> {
     let current = mesh.to_indexed();
@@ -191,7 +195,10 @@ fn match_against(
     )?;
     let mut plan = decide::decide(&surfaces, &matched, fidelity)?;
     if plan.counts.changed() {
-        mesh.replace(rebuild::replacement(&surfaces, &plan, mesh.next_id())?)?;
+        let replacement = rebuild::replacement(&surfaces, &plan, mesh.next_id())?;
+        let (replacement, continued) = replacement.continuing(mesh, continue_within * spacing);
+        plan.counts.continued = continued;
+        mesh.replace(replacement)?;
     }
     if let Some(nearest) = plan.nearest.take() {
         *earlier = Some(Earlier {
@@ -225,7 +232,7 @@ pub fn match_and_improve(
     mesh: &mut Mesh,
     target: (&IndexedMesh, &Bvh),
     (spacing, max_distance): (f32, f32),
-    (fidelity, carry): (Fidelity, Carry),
+    (fidelity, carry, continue_within): (Fidelity, Carry, f32),
     params: &ImproveParams,
 ) -> Result<SubgridReport, SubgridError> {
     let mut report = SubgridReport::default();
@@ -241,7 +248,7 @@ pub fn match_and_improve(
     let target = (target.0, &input);
     let bounds = (spacing, max_distance);
     let mut earlier = None;
-    let policy = (fidelity, carry);
+    let policy = (fidelity, carry, continue_within);
     let mut counts = match_against(backend, mesh, target, bounds, policy, &mut earlier)?;
     improve_timed(mesh)?;
     let mut grafted = counts.grafted;
@@ -261,6 +268,7 @@ pub fn match_and_improve(
         counts.replaced += recheck.replaced;
         counts.deleted += recheck.deleted;
         counts.inserted += recheck.inserted;
+        counts.continued += recheck.continued;
     }
     report.counts = counts;
     Ok(report)
