@@ -88,7 +88,6 @@ fn droplets_below_the_grid_follow_the_target() {
             inserted: 1,
             replaced: 0,
             grafted: 0,
-            continued: 0,
         }
     );
     let out = mesh.to_indexed();
@@ -246,7 +245,6 @@ fn a_large_component_with_another_topology_is_replaced_and_keeps_its_data() {
             inserted: 0,
             replaced: 1,
             grafted: 0,
-            continued: 0,
         }
     );
     let out = mesh.to_indexed();
@@ -402,7 +400,6 @@ fn a_local_difference_is_grafted_and_the_rest_keeps_its_vertices() {
             inserted: 0,
             replaced: 0,
             grafted: 1,
-            continued: 0,
         }
     );
     let out = mesh.to_indexed();
@@ -463,7 +460,6 @@ fn whole_input_fidelity_replaces_instead_of_grafting() {
             inserted: 0,
             replaced: 1,
             grafted: 0,
-            continued: 0,
         }
     );
     assert_eq!(mesh.to_indexed().positions, target.positions);

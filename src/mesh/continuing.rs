@@ -22,10 +22,10 @@ impl Replacement {
     /// old vertex's removal leave the record, and the record's other rules read the old id. Each
     /// old vertex continues at most one new one, the nearest; ties go to the smaller ids, so the
     /// result does not depend on the record's order. `before` is the mesh the record applies to.
-    /// Returns the replacement and how many old vertices continue.
-    pub fn continuing(mut self, before: &Mesh, reach: f32) -> (Replacement, usize) {
+    /// Returns the replacement and the ids of the old vertices that continue, sorted.
+    pub fn continuing(mut self, before: &Mesh, reach: f32) -> (Replacement, Vec<u64>) {
         if reach <= 0.0 {
-            return (self, 0);
+            return (self, Vec::new());
         }
         let mut removed: FxHashMap<u64, Vec3> = self
             .record
@@ -36,7 +36,7 @@ impl Replacement {
             })
             .collect();
         if removed.is_empty() {
-            return (self, 0);
+            return (self, Vec::new());
         }
         for v in before.vertices() {
             if let Some(at) = removed.get_mut(&before.id(v)) {
@@ -74,7 +74,7 @@ impl Replacement {
             }
         }
         if renamed.is_empty() {
-            return (self, 0);
+            return (self, Vec::new());
         }
         for (created, old) in &renamed {
             self.surface.ids[slot[created]] = *old;
@@ -110,7 +110,8 @@ impl Replacement {
                 Mutation::Flip { a, b, c, d } => [a, b, c, d].into_iter().for_each(rename),
             }
         }
-        let count = renamed.len();
-        (self, count)
+        let mut continued: Vec<u64> = taken.into_iter().collect();
+        continued.sort_unstable();
+        (self, continued)
     }
 }

@@ -32,9 +32,10 @@ pub struct TopologyReport {
     pub deleted: usize,
     pub cut: usize,
     pub patch: usize,
-    /// Input vertices a patch vertex standing on them continued (`TopologyOptions::continue_within`):
-    /// counted in `deleted` as the surgery removed them, yet their ids go on.
-    pub continued: usize,
+    /// Ids of the input vertices a patch vertex standing on them continued
+    /// (`TopologyOptions::continue_within`), sorted: counted in `deleted` as the surgery removed
+    /// them, yet their ids go on.
+    pub continued: Vec<u64>,
     /// Euler characteristic of each component of the result, sorted (equal to Θ's isosurface).
     pub euler: Vec<i64>,
     /// Why each earlier attempt was abandoned, in order.

@@ -17,8 +17,9 @@ pub struct Churn {
     pub removed: usize,
     /// Vertices it removed that the frame began with.
     pub lost: usize,
-    /// Vertices its patches would have removed, whose ids a new vertex standing on them continues
-    /// instead (`TopologyOptions::continue_within`): counted in neither `removed` nor `lost`.
+    /// Vertices the frame began with that its patches would have removed, whose ids a new vertex
+    /// standing on them continues instead (`TopologyOptions::continue_within`): counted in neither
+    /// `removed` nor `lost`.
     #[serde(default)]
     pub continued: usize,
 }

@@ -348,9 +348,10 @@ impl Tracker {
 
         // Every stage changed the mesh through its mutations: one drain gives the frame's events.
         let mut churn = marks.churn(self.mesh.journal_since(0), &before);
-        churn.topology_self.continued = continued_self;
-        churn.topology_target.continued = continued_target;
-        churn.subgrid.continued = matched.counts.continued;
+        let began = |ids: &[u64]| ids.iter().filter(|id| before.contains(id)).count();
+        churn.topology_self.continued = began(&continued_self);
+        churn.topology_target.continued = began(&continued_target);
+        churn.subgrid.continued = began(&matched.continued);
         let events = EventList::drain(&mut self.mesh);
         self.mesh.compact();
         let residual = self.residual(backend, &bvh, frame, &mut times)?;
@@ -402,12 +403,12 @@ impl Tracker {
     }
 
     /// `ConstrainTopology(M, Θ)` (paper §4.3); whether it changed the mesh, where its records
-    /// lie in the journal, and how many vertices its patches continued.
+    /// lie in the journal, and the ids of the vertices its patches continued.
     fn constrain(
         &mut self,
         frame: usize,
         theta: &Field,
-    ) -> Result<(bool, Range<usize>, usize), TrackError> {
+    ) -> Result<(bool, Range<usize>, Vec<u64>), TrackError> {
         let mark = self.mesh.journal_len();
         // Where the sub-grid match follows, the sheets it would copy back are kept.
         let options = TopologyOptions {

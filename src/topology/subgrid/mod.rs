@@ -92,10 +92,6 @@ pub struct SubgridCounts {
     /// Components of `M` that took their match's triangles only where the two differ.
     #[serde(default)]
     pub grafted: usize,
-    /// Vertices of `M` that a copied vertex standing on them continued (see
-    /// `Replacement::continuing`): removed by the match, yet their ids go on.
-    #[serde(default)]
-    pub continued: usize,
 }
 
 impl SubgridCounts {
@@ -156,20 +152,21 @@ pub fn match_below_grid(
         (target, &input),
         (spacing, max_distance),
         (fidelity, carry, continue_within),
-        &mut None,
+        (&mut None, &mut Vec::new()),
     )
 }
 
 /// [`match_below_grid`] with the distances to the input measured so far in this frame, and what
 /// the last call that measured the input against the tracked surface exactly found (`earlier`,
-/// replaced by this call's where it measures exactly).
+/// replaced by this call's where it measures exactly). The ids of the vertices a copied vertex
+/// continued (see `Replacement::continuing`) go into `continued`.
 fn match_against(
     backend: &Backend,
     mesh: &mut Mesh,
     (target, input): (&IndexedMesh, &InputDistances),
     (spacing, max_distance): (f32, f32),
     (fidelity, carry, continue_within): (Fidelity, Carry, f32),
-    earlier: &mut Option<Earlier>,
+    (earlier, continued): (&mut Option<Earlier>, &mut Vec<u64>),
 ) -> Result<SubgridCounts, SubgridError> {
     let current = mesh.to_indexed();
     let (ours, theirs) = rayon::join(|| Components::of(&current), || Components::of(target));
@@ -196,8 +193,8 @@ fn match_against(
     let mut plan = decide::decide(&surfaces, &matched, fidelity)?;
     if plan.counts.changed() {
         let replacement = rebuild::replacement(&surfaces, &plan, mesh.next_id())?;
-        let (replacement, continued) = replacement.continuing(mesh, continue_within * spacing);
-        plan.counts.continued = continued;
+        let (replacement, ids) = replacement.continuing(mesh, continue_within * spacing);
+        continued.extend(ids);
         mesh.replace(replacement)?;
     }
     if let Some(nearest) = plan.nearest.take() {
@@ -216,6 +213,9 @@ pub struct SubgridReport {
     pub counts: SubgridCounts,
     pub improve: Duration,
     pub improve_records: Vec<Range<usize>>,
+    /// Ids of the vertices a copied vertex standing on them continued (see
+    /// `Replacement::continuing`): removed by the match, yet their ids go on.
+    pub continued: Vec<u64>,
 }
 
 /// The sub-grid match of one frame (Algorithm 1 after line 10), with the improvement that follows
@@ -249,14 +249,28 @@ pub fn match_and_improve(
     let bounds = (spacing, max_distance);
     let mut earlier = None;
     let policy = (fidelity, carry, continue_within);
-    let mut counts = match_against(backend, mesh, target, bounds, policy, &mut earlier)?;
+    let mut counts = match_against(
+        backend,
+        mesh,
+        target,
+        bounds,
+        policy,
+        (&mut earlier, &mut report.continued),
+    )?;
     improve_timed(mesh)?;
     let mut grafted = counts.grafted;
     for round in 0..=RECHECKS {
         if grafted == 0 {
             break;
         }
-        let recheck = match_against(backend, mesh, target, bounds, policy, &mut earlier)?;
+        let recheck = match_against(
+            backend,
+            mesh,
+            target,
+            bounds,
+            policy,
+            (&mut earlier, &mut report.continued),
+        )?;
         grafted = recheck.grafted;
         if !recheck.changed() {
             break;
@@ -268,7 +282,6 @@ pub fn match_and_improve(
         counts.replaced += recheck.replaced;
         counts.deleted += recheck.deleted;
         counts.inserted += recheck.inserted;
-        counts.continued += recheck.continued;
     }
     report.counts = counts;
     Ok(report)
