@@ -208,3 +208,69 @@ fn without_a_reach_every_resampled_vertex_is_new() {
     assert_eq!(same.record, record);
     assert!(count.is_empty());
 }
+
+#[test]
+fn which_vertices_continue_does_not_depend_on_the_records_order() {
+    // Every vertex of a sphere re-sampled by a new vertex nudged outward by 0.01; new vertex v
+    // reads old vertex v − v mod 2 above all, so two new vertices compete for each even old
+    // vertex, and with a reach of a whole radius both stand within it: the nearer (its own) wins.
+    let mesh = sphere();
+    let mut surface = mesh.to_indexed();
+    let first = mesh.next_id();
+    let ids = surface.ids.as_mut().expect("a mesh has ids");
+    let old = ids.clone();
+    let n = old.len();
+    for (v, id) in ids.iter_mut().enumerate() {
+        *id = first + v as u64;
+    }
+    for p in &mut surface.positions {
+        *p *= 1.01;
+    }
+    let created: Vec<Mutation> = (0..n)
+        .map(|v| Mutation::PatchCreated {
+            created: first + v as u64,
+            sources: vec![(old[v - v % 2], 0.6), (old[(v + 1) % n], 0.4)],
+        })
+        .collect();
+    let deleted: Vec<Mutation> = (0..n)
+        .map(|v| Mutation::PatchDeleted {
+            deleted: old[v],
+            sources: vec![(first + v as u64, 1.0)],
+        })
+        .collect();
+    let surface = Mesh::from_indexed(&surface).unwrap();
+    let run = |reverse: bool| {
+        let mut record: Vec<Mutation> = created.iter().chain(&deleted).cloned().collect();
+        if reverse {
+            record.reverse();
+        }
+        let replacement = Replacement {
+            surface: surface.clone(),
+            record,
+        };
+        let (continued, ids) = replacement.continuing(&mesh, 1.0);
+        (
+            continued.surface.to_indexed().ids.unwrap(),
+            continued.record,
+            ids,
+        )
+    };
+    let (forward, backward) = (run(false), run(true));
+    assert_eq!(forward.0, backward.0);
+    assert_eq!(forward.2, backward.2);
+    let expected: Vec<u64> = (0..n)
+        .map(|v| if v % 2 == 0 { old[v] } else { first + v as u64 })
+        .collect();
+    assert_eq!(forward.0, expected);
+    assert_eq!(forward.2.len(), n.div_ceil(2));
+    // The odd new vertices stay new, and the odd old vertices are removed: 2 records each.
+    assert_eq!(forward.1.len(), 2 * (n / 2));
+    let mut mesh = mesh;
+    let (replacement, _) = Replacement {
+        surface,
+        record: created.iter().chain(&deleted).cloned().collect(),
+    }
+    .continuing(&mesh.clone(), 1.0);
+    mesh.replace(replacement).unwrap();
+    EventList::drain(&mut mesh).check().unwrap();
+}
