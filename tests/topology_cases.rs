@@ -84,8 +84,8 @@ fn clean_sphere_and_torus_are_left_alone_by_their_own_distance() {
     }
 }
 
-#[test]
-fn a_second_call_changes_nothing() {
+/// Two balls a little apart, and a Θ in which they have moved into each other.
+fn merging_balls() -> (IndexedMesh, Field) {
     let m = surface(
         union(
             ball(Vec3::new(-4.0, 0.0, 0.0), 3.5),
@@ -97,6 +97,12 @@ fn a_second_call_changes_nothing() {
         ball(Vec3::new(-3.0, 0.0, 0.0), 3.6),
         ball(Vec3::new(3.2, 0.3, 0.0), 3.6),
     ));
+    (m, target)
+}
+
+#[test]
+fn a_second_call_changes_nothing() {
+    let (m, target) = merging_balls();
     let once = after(&m, &target);
     assert_eq!(euler_list(&once), vec![2]);
     let o = checked(Kind::Target, once.clone(), target);
@@ -107,18 +113,8 @@ fn a_second_call_changes_nothing() {
 
 #[test]
 fn patch_vertices_standing_on_the_vertices_they_replace_continue_them() {
-    // Two balls merging: the patch between them re-samples both sides of the neck.
-    let m = surface(
-        union(
-            ball(Vec3::new(-4.0, 0.0, 0.0), 3.5),
-            ball(Vec3::new(4.2, 0.3, 0.0), 3.5),
-        ),
-        0.8,
-    );
-    let target = sampled(union(
-        ball(Vec3::new(-3.0, 0.0, 0.0), 3.6),
-        ball(Vec3::new(3.2, 0.3, 0.0), 3.6),
-    ));
+    // The patch between the merging balls re-samples both sides of the neck.
+    let (m, target) = merging_balls();
     let run = |continue_within: f32| {
         let mut mesh = Mesh::from_indexed(&m).unwrap();
         let options = TopologyOptions {

@@ -249,28 +249,18 @@ pub fn match_and_improve(
     let bounds = (spacing, max_distance);
     let mut earlier = None;
     let policy = (fidelity, carry, continue_within);
-    let mut counts = match_against(
-        backend,
-        mesh,
-        target,
-        bounds,
-        policy,
-        (&mut earlier, &mut report.continued),
-    )?;
+    let mut matched = |mesh: &mut Mesh| {
+        let memo = (&mut earlier, &mut report.continued);
+        match_against(backend, mesh, target, bounds, policy, memo)
+    };
+    let mut counts = matched(mesh)?;
     improve_timed(mesh)?;
     let mut grafted = counts.grafted;
     for round in 0..=RECHECKS {
         if grafted == 0 {
             break;
         }
-        let recheck = match_against(
-            backend,
-            mesh,
-            target,
-            bounds,
-            policy,
-            (&mut earlier, &mut report.continued),
-        )?;
+        let recheck = matched(mesh)?;
         grafted = recheck.grafted;
         if !recheck.changed() {
             break;
