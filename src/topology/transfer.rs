@@ -167,10 +167,13 @@ pub(crate) fn triangles_around(
     cell: f32,
     reach: f32,
 ) -> Vec<[u32; 3]> {
-    let mut corners: Vec<u32> = triangles.iter().flatten().copied().collect();
-    corners.par_sort_unstable();
-    corners.dedup();
-    let nearest = Survivors::new(corners.iter().map(|&v| (v, positions[v as usize])), cell);
+    // The corners in increasing order, marked rather than sorted: a linear pass.
+    let mut used = vec![false; positions.len()];
+    for &v in triangles.iter().flatten() {
+        used[v as usize] = true;
+    }
+    let corners = (0..positions.len() as u32).filter(|&v| used[v as usize]);
+    let nearest = Survivors::new(corners.map(|v| (v, positions[v as usize])), cell);
     let half: Vec<Option<f32>> = nearest
         .nearest_each(points.par_iter().copied())
         .into_iter()
