@@ -27,22 +27,22 @@ impl Replacement {
         if reach <= 0.0 {
             return (self, Vec::new());
         }
-        let mut removed: FxHashMap<u64, Vec3> = self
+        let deleted: FxHashSet<u64> = self
             .record
             .iter()
             .filter_map(|m| match m {
-                Mutation::PatchDeleted { deleted, .. } => Some((*deleted, Vec3::ZERO)),
+                Mutation::PatchDeleted { deleted, .. } => Some(*deleted),
                 _ => None,
             })
             .collect();
-        if removed.is_empty() {
+        if deleted.is_empty() {
             return (self, Vec::new());
         }
-        for v in before.vertices() {
-            if let Some(at) = removed.get_mut(&before.id(v)) {
-                *at = before.position(v);
-            }
-        }
+        let removed: FxHashMap<u64, Vec3> = before
+            .vertices()
+            .filter(|&v| deleted.contains(&before.id(v)))
+            .map(|v| (before.id(v), before.position(v)))
+            .collect();
         let slot: FxHashMap<u64, usize> = self
             .surface
             .vertices()
