@@ -161,3 +161,24 @@ fn collapse_refuses_when_the_link_condition_fails() {
     }
     assert_eq!(mesh.validate(), Ok(()));
 }
+
+/// A flat droplet of two faces back to back, as splashsurf emits now and then (the DFSPH double
+/// dam break's frames 17–19 and 27): every edge's two faces share their third vertex. No edge of
+/// it can be split, flipped, collapsed or merged into a closed manifold, and improvement must
+/// leave it as it is rather than open it.
+#[test]
+fn two_faces_back_to_back_refuse_every_edge_operation() {
+    let pillow = IndexedMesh::new(
+        vec![Vec3::ZERO, Vec3::X, Vec3::new(0.0, 1.0, 0.01)],
+        vec![[0, 1, 2], [1, 0, 2]],
+    );
+    let mut mesh = Mesh::from_indexed(&pillow).unwrap();
+    for h in 0..6 {
+        assert_eq!(mesh.split_edge(HalfEdgeId(h), 0.5), None);
+        assert_eq!(mesh.flip(HalfEdgeId(h)), None);
+        assert_eq!(mesh.collapse(HalfEdgeId(h), Vec3::splat(0.3)), None);
+        assert_eq!(mesh.merge(HalfEdgeId(h)), None);
+    }
+    assert_eq!(mesh.validate(), Ok(()));
+    assert_eq!(mesh.face_count(), 2);
+}

@@ -12,8 +12,10 @@ use glam::Vec3;
 
 impl Mesh {
     /// Splits the edge of `h` at parameter `t ∈ (0, 1)` from `origin(h)`, creating one vertex (new id)
-    /// whose position and attributes are interpolated. `None` when `t` is outside (0, 1) or a new face
-    /// would be degenerate.
+    /// whose position and attributes are interpolated. `None` when `t` is outside (0, 1), a new face
+    /// would be degenerate, or the two faces of the edge share their third vertex: a component of
+    /// two faces back to back (which surface reconstructions of fluids do emit, as a flat droplet),
+    /// whose split would pair the new faces' edges among themselves and leave the outer ones open.
     pub fn split_edge(&mut self, h: HalfEdgeId, t: f32) -> Option<VertexId> {
         if !(t > 0.0 && t < 1.0) {
             return None;
@@ -22,6 +24,9 @@ impl Mesh {
         let (a, b) = (self.origin(h), self.target(h));
         let c = self.origin(self.prev(h));
         let d = self.origin(self.prev(t2));
+        if c == d {
+            return None;
+        }
         let p = self.position(a).lerp(self.position(b), t);
         let [pa, pb, pc, pd] = [a, b, c, d].map(|v| self.position(v));
         if [[pa, p, pc], [p, pb, pc], [pb, p, pd], [p, pa, pd]]
