@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use surftrack::compute::{Backend, BackendChoice};
 use surftrack::io::discover_sequence;
-use surftrack::register::{FineOptions, GraphOptions};
+use surftrack::register::{COVER_GROWTH, FineOptions, GraphOptions};
 use surftrack::sequence::{
     FrameFormat, FrameSource, Layout, Output, Progress, RunReport, SUMMARY_FILE, Start,
     track_sequence,
@@ -97,6 +97,12 @@ pub struct MethodParams {
     #[arg(long, default_value_t = FineOptions::default().cover_weight)]
     #[serde(default = "without_cover")]
     pub cover_weight: f64,
+    /// How much harder a cover pair pulls the farther its target sample lies from the mesh: its
+    /// weight is multiplied by (distance / a quarter of L) to this power; 0 weighs every pair
+    /// alike.
+    #[arg(long, default_value_t = COVER_GROWTH)]
+    #[serde(default)]
+    pub cover_growth: f64,
     /// How the mesh follows each frame: `register` (the paper's §4.2) or `project` (each vertex to
     /// its closest point on the frame: the baseline of the paper's Fig. 9).
     #[arg(long, value_enum, default_value_t = MotionArg::Register)]
@@ -187,6 +193,7 @@ impl MethodParams {
         o.register.coarse.alpha_reg_start = self.alpha_reg;
         o.register.fine.sigma = self.sigma;
         o.register.fine.cover_weight = self.cover_weight;
+        o.register.fine.cover_growth = self.cover_growth;
         o.topology.depth = self.depth;
         o.topology.carry = match self.transfer {
             TransferArg::Corner => Carry::Corner,

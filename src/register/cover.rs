@@ -27,6 +27,23 @@ pub struct Cover {
     pub entries: Vec<u32>,
 }
 
+/// How much harder than the configured weight a pair pulls whose target sample lies `gap` (solver
+/// units: mean edge lengths) from the source: `(gap / cover_min_distance)^cover_growth`, at least 1.
+/// A sample just past the minimum distance is mostly the target's triangulation noise, and pulling
+/// it hard moves the surface along with the noise (drift); a sample a cell or more away is a
+/// feature the source lacks — a splash sheet or strand no source normal ray reaches (paper §4.2:
+/// "we do not guarantee that every target surface region will have a corresponding source
+/// point") — and left behind there, the mesh is re-sampled by the topology step (§4.3) in the
+/// next frame and the next.
+fn growth(gap: f64, options: &FineOptions) -> f64 {
+    if options.cover_growth == 0.0 {
+        return 1.0;
+    }
+    (gap / options.cover_min_distance)
+        .max(1.0)
+        .powf(options.cover_growth)
+}
+
 impl Cover {
     /// Fails when the pairs are too many for the 32-bit entry indices the kernels read.
     pub fn new(
@@ -53,8 +70,8 @@ impl Cover {
             let at = w[0] * start[corners[0] as usize]
                 + w[1] * start[corners[1] as usize]
                 + w[2] * start[corners[2] as usize];
-            let matrix = outer(n) * (options.plane_weight * scale);
             let gap = surface.units.to_local(hit.point) - at;
+            let matrix = outer(n) * (options.plane_weight * scale * growth(gap.length(), options));
             cover.corners.push(corners);
             cover.weights.push(w);
             cover.matrices.push(matrix);
@@ -108,5 +125,71 @@ impl Cover {
             let r = self.blend(p, d) - self.gaps[p];
             r.dot(self.matrices[p] * r)
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::register::correspond::CoverHit;
+    use glam::Vec3;
+
+    /// A pair whose sample lies `gap` mean edge lengths above the centre of a unit triangle.
+    fn hit(surface: &Surface, gap: f64) -> CoverHit {
+        let centre = surface.rest.iter().sum::<DVec3>() / 3.0;
+        CoverHit {
+            point: surface.units.to_world(centre + DVec3::Z * gap),
+            normal: Vec3::Z,
+            triangle: 0,
+            barycentric: Vec3::splat(1.0 / 3.0),
+        }
+    }
+
+    /// The weight each pair's matrix carries along the normal.
+    fn weights(growth: f64, gaps: &[f64]) -> Vec<f64> {
+        let positions = [
+            Vec3::ZERO,
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(0.0, 2.0, 0.0),
+        ];
+        let surface = Surface::new(&positions, &[[0, 1, 2]], 2.0);
+        let pairs = CoverPairs {
+            hits: gaps.iter().map(|&g| hit(&surface, g)).collect(),
+            samples: gaps.len(),
+        };
+        let options = FineOptions {
+            cover_growth: growth,
+            ..FineOptions::default()
+        };
+        let cover = Cover::new(&pairs, &surface, &surface.rest, &options).unwrap();
+        cover.matrices.iter().map(|m| m.z_axis.z).collect()
+    }
+
+    #[test]
+    fn a_pair_pulls_harder_the_farther_its_sample_lies() {
+        // The minimum distance is 0.25: a sample at 0.5 pulls twice, at 1.0 four times as hard
+        // as one at or within it.
+        let grown = weights(1.0, &[0.1, 0.25, 0.5, 1.0]);
+        let base = grown[0];
+        assert!(base > 0.0);
+        for (w, factor) in grown.iter().zip([1.0, 1.0, 2.0, 4.0]) {
+            assert!((w / base - factor).abs() < 1e-9, "{grown:?}");
+        }
+        let squared = weights(2.0, &[0.25, 1.0]);
+        assert!((squared[1] / squared[0] - 16.0).abs() < 1e-9, "{squared:?}");
+        let flat = weights(0.0, &[0.25, 0.5, 1.0]);
+        assert!(flat.iter().all(|&w| w == flat[0]), "{flat:?}");
+    }
+
+    #[test]
+    fn a_growing_weight_needs_a_minimum_distance_to_grow_from() {
+        let mut options = crate::register::RegisterOptions::default();
+        options.fine.cover_min_distance = 0.0;
+        assert!(options.check().is_err());
+        options.fine.cover_growth = 0.0;
+        assert!(options.check().is_ok());
+        options.fine.cover_growth = -1.0;
+        options.fine.cover_min_distance = 0.25;
+        assert!(options.check().is_err());
     }
 }
