@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use surftrack::compute::{Backend, BackendChoice};
 use surftrack::io::discover_sequence;
-use surftrack::register::{COVER_GROWTH, FineOptions, GraphOptions};
+use surftrack::register::{FineOptions, GraphOptions};
 use surftrack::sequence::{
     FrameFormat, FrameSource, Layout, Output, Progress, RunReport, SUMMARY_FILE, Start,
     track_sequence,
@@ -100,7 +100,7 @@ pub struct MethodParams {
     /// How much harder a cover pair pulls the farther its target sample lies from the mesh: its
     /// weight is multiplied by (distance / a quarter of L) to this power; 0 weighs every pair
     /// alike.
-    #[arg(long, default_value_t = COVER_GROWTH)]
+    #[arg(long, default_value_t = FineOptions::default().cover_growth)]
     #[serde(default)]
     pub cover_growth: f64,
     /// How the mesh follows each frame: `register` (the paper's §4.2) or `project` (each vertex to

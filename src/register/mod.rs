@@ -46,7 +46,7 @@ pub use coarse::CoarseSolver;
 use coarse::{Setup, rigid_start};
 pub use error::{FactorizationError, RegisterError};
 pub use graph::{DeformationGraph, GraphOptions};
-pub use options::{COVER_GROWTH, CoarseOptions, FineOptions, LinearSolver, RegisterOptions};
+pub use options::{CoarseOptions, FineOptions, LinearSolver, RegisterOptions};
 pub use report::{
     CoarseReport, FineReport, FineRound, IterationReport, RegistrationReport, StageReport,
     StepTimes,

@@ -107,10 +107,10 @@ impl Default for CoarseOptions {
 /// tracked alone from one fixed run) a flat cover term keeps 80.93% of the vertices per frame and
 /// this one 82.80%: a sheet or strand no source ray reaches lies a cell or more from the source,
 /// and pulling it harder keeps the mesh on it, where the topology step would otherwise re-sample
-/// it. A flat weight raised to the same effect (24: 83.68%) also pulls on the samples just past
-/// the minimum distance, which are mostly the target's triangulation noise: the synth `rigid`
+/// it. A flat weight raised instead (24: 83.68%) also pulls hard on the samples just past the
+/// minimum distance, which are mostly the target's triangulation noise: the synth `rigid`
 /// scene's drift doubles, where with growth it does not (docs/performance.md).
-pub const COVER_GROWTH: f64 = 1.0;
+const COVER_GROWTH: f64 = 1.0;
 
 /// The fine per-vertex stage (paper §4.2).
 #[derive(Debug, Clone, Copy, PartialEq)]
