@@ -48,16 +48,6 @@ const MAX_RETRIES: usize = 12;
 /// A rise this small relative to the energy is rounding: the stage has converged.
 const ROUNDING: f64 = 1e-12;
 
-/// A trial step's unknowns, deformed samples and energy.
-type Trial = (Vec<f64>, Vec<DVec3>, f64);
-
-/// Most conjugate-gradient iterations a solve from a factor taken at an earlier state may need
-/// (as its rate so far foresees them, see `pcg`) before it gives up and the step is solved from a
-/// fresh factor. A factorization costs about as much as 15–20 iterations on the dam break's
-/// frames (22–30 ms against 1.2–2 ms) and about 9 on the DFSPH splash (51 against 6 ms), where
-/// an earlier factor needed 50–130 iterations.
-const GIVE_UP: usize = 24;
-
 /// The vertices carrying `E_fit`: a geodesic Poisson-disk sample `spacing` mean edge lengths
 /// apart, or every vertex for a spacing of 0.
 fn fit_samples(surface: &Surface, spacing: f32) -> Vec<u32> {
@@ -104,11 +94,6 @@ pub struct CoarseSolver<'a> {
     /// The factor does not match the current weights (new stage) or has become a poor
     /// preconditioner.
     stale: bool,
-    /// The factor was taken at the current unknowns and correspondences: a solve from it
-    /// converges in an iteration or two. A solve from an older one gives up where it would need
-    /// more than [`GIVE_UP`] iterations, and the step is solved again from a fresh factor (see
-    /// [`CoarseSolver::solve`]).
-    fresh: bool,
     factorizations: usize,
     retries: usize,
     report: CoarseReport,
@@ -208,7 +193,6 @@ impl<'a> CoarseSolver<'a> {
             damping: Damping::none(),
             scale: 1.0,
             stale: true,
-            fresh: false,
             factorizations: 0,
             retries: 0,
             surface,
@@ -315,7 +299,6 @@ impl<'a> CoarseSolver<'a> {
             match self.cholesky.factor(&self.pattern, &self.damped) {
                 Ok(()) => {
                     self.stale = false;
-                    self.fresh = true;
                     return Ok(());
                 }
                 Err(LltError::NonPositivePivot { index }) => {
@@ -335,14 +318,8 @@ impl<'a> CoarseSolver<'a> {
 
     /// The step `δ` of `(JᵀJ + λ I) δ = −Jᵀr` at the current state; returns the conjugate-gradient
     /// iterations it took (about one when the factor is of `JᵀJ` itself: it is a single-precision
-    /// factor, see `cholesky`), and whether `δ` is solved. From a factor taken at an earlier state
-    /// the solve gives up as soon as it foresees more than [`GIVE_UP`] iterations: one iteration
-    /// costs a pair of triangular solves, and on a fluid's splash the correspondences change so
-    /// much from one iteration to the next that an earlier factor needed 50–130 of them (DFSPH
-    /// frame 20: 1,601 iterations, 8.2 s of solves in a 10.3 s registration), where a fresh
-    /// factor costs about nine and then converges at once. Then the factor is marked stale, and
-    /// the caller solves again.
-    pub fn solve(&mut self) -> Result<(usize, bool), RegisterError> {
+    /// factor, see `cholesky`).
+    pub fn solve(&mut self) -> Result<usize, RegisterError> {
         let operator = GaussNewton {
             model: &self.model,
             x: &self.x,
@@ -365,11 +342,7 @@ impl<'a> CoarseSolver<'a> {
             &self.rhs,
             &mut self.delta,
             self.options.cg_tolerance,
-            if self.fresh {
-                (self.options.max_cg_iterations, false)
-            } else {
-                (GIVE_UP.min(self.options.max_cg_iterations), true)
-            },
+            self.options.max_cg_iterations,
         );
         if let Some(e) = failed {
             return Err(e);
@@ -377,11 +350,7 @@ impl<'a> CoarseSolver<'a> {
         if solve.iterations > self.refactor_after {
             self.stale = true;
         }
-        if !solve.converged && !self.fresh {
-            self.stale = true;
-            return Ok((solve.iterations, false));
-        }
-        Ok((solve.iterations, true))
+        Ok(solve.iterations)
     }
 
     /// Raises the damping for another try; false when the retries are spent. After a rejected step
@@ -630,7 +599,6 @@ impl<'a> CoarseSolver<'a> {
         self.spare.push(used);
         self.scale = prepared.scale;
         self.stale = false;
-        self.fresh = false;
     }
 
     /// Starts factoring, on a thread of `scope`, the matrix of the stage `ahead` stages on,
@@ -695,16 +663,12 @@ impl<'a> CoarseSolver<'a> {
                 self.factor()?;
                 times.factorization += t.elapsed();
             }
-            // A solve from an old factor that gave up is solved again from a fresh one.
-            let Some((trial, trial_deformed, trial_e)) = self.trial(times, cg_iterations)? else {
-                continue;
-            };
+            let (trial, trial_deformed, trial_e) = self.trial(times, cg_iterations)?;
             if trial_e.is_finite() && trial_e <= e {
                 let damping = self.damping.lambda();
                 self.lower(e - trial_e);
                 self.x = trial;
                 self.deformed = trial_deformed;
-                self.fresh = false;
                 return Ok(Outcome::Accepted { damping });
             }
             if trial_e.is_finite() && trial_e - e <= ROUNDING * e {
@@ -716,27 +680,22 @@ impl<'a> CoarseSolver<'a> {
         }
     }
 
-    /// The step from the current factor, and where it leads; `None` where the factor is too old
-    /// to solve it (see [`CoarseSolver::solve`]).
+    /// The step from the current factor, and where it leads: unknowns, deformed samples, energy.
     fn trial(
         &mut self,
         times: &mut StepTimes,
         cg_iterations: &mut usize,
-    ) -> Result<Option<Trial>, RegisterError> {
+    ) -> Result<(Vec<f64>, Vec<DVec3>, f64), RegisterError> {
         let t = Instant::now();
-        let (iterations, solved) = self.solve()?;
-        *cg_iterations += iterations;
+        *cg_iterations += self.solve()?;
         times.solve += t.elapsed();
-        if !solved {
-            return Ok(None);
-        }
         let t = Instant::now();
         let trial: Vec<f64> = self.x.iter().zip(&self.delta).map(|(a, d)| a + d).collect();
         let trial_deformed = self.model.deform(&trial);
         let w = &self.weights;
         let trial_e = energy(&self.model, &trial, &trial_deformed, &self.current, w).total(w);
         times.evaluation += t.elapsed();
-        Ok(Some((trial, trial_deformed, trial_e)))
+        Ok((trial, trial_deformed, trial_e))
     }
 }
 

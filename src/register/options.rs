@@ -78,9 +78,7 @@ pub enum LinearSolver {
     Cholesky,
     /// Conjugate gradients on the exact system, preconditioned by the Cholesky factor of an upper
     /// bound of `JᵀJ` with the graph's own sparsity; the factor is kept across iterations and
-    /// refreshed at each new `α_reg`, once a solve needs more than `refactor_after` iterations, and
-    /// at once where a solve from a factor of an earlier state foresees more iterations than a
-    /// factorization costs (see `coarse::GIVE_UP`).
+    /// refreshed at each new `α_reg` or once a solve needs more than `refactor_after` iterations.
     PreconditionedCg { refactor_after: usize },
 }
 
