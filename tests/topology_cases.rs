@@ -650,3 +650,48 @@ fn a_difference_the_grid_cannot_mend_is_left_to_a_caller_below_the_grid() {
     constrain_topology(&mut strict, &theta, &TopologyOptions::default()).unwrap();
     assert_eq!(euler_list(&strict.to_indexed()), vec![2, 2]);
 }
+
+/// A droplet a third of a cell across, three cells from a ball, that Θ (the ball's alone) does
+/// not hold. With `keep_shared_sheets` (a caller that matches the input below the grid follows)
+/// the droplet is that caller's: it keeps every vertex. Without the option the step gives Θ's
+/// topology and the droplet goes. A droplet touching the ball's cells is not left alone.
+#[test]
+fn a_droplet_apart_from_the_body_is_left_to_a_caller_below_the_grid() {
+    let body = ball(Vec3::ZERO, 3.0);
+    let centre = Vec3::new(6.4, 0.3, -0.2);
+    let with = |c: Vec3| IndexedMesh::icosphere(c, 0.17, 1);
+    let mesh = |c: Vec3| {
+        let mut m = surface(&body, 0.25);
+        let drop = with(c);
+        let base = m.positions.len() as u32;
+        m.positions.extend(&drop.positions);
+        m.triangles
+            .extend(drop.triangles.iter().map(|t| t.map(|v| v + base)));
+        m
+    };
+    let theta = phi(&surface(&body, 0.25));
+    let keep = TopologyOptions {
+        keep_shared_sheets: true,
+        ..TopologyOptions::default()
+    };
+    let near = |m: &Mesh, c: Vec3| {
+        m.vertices()
+            .filter(|&v| m.position(v).distance(c) < 0.5)
+            .map(|v| m.id(v))
+            .collect::<Vec<_>>()
+    };
+    let mut kept = Mesh::from_indexed(&mesh(centre)).unwrap();
+    let before = near(&kept, centre);
+    assert_eq!(before.len(), with(centre).positions.len());
+    constrain_topology(&mut kept, &theta, &keep).unwrap();
+    assert_eq!(near(&kept, centre), before);
+    let mut gone = Mesh::from_indexed(&mesh(centre)).unwrap();
+    constrain_topology(&mut gone, &theta, &TopologyOptions::default()).unwrap();
+    assert!(near(&gone, centre).is_empty());
+    // Half a cell off the ball's surface the droplet's cells touch the ball's: no longer apart.
+    let touching = Vec3::new(3.5, 0.3, -0.2);
+    let mut merged = Mesh::from_indexed(&mesh(touching)).unwrap();
+    let before = near(&merged, touching);
+    constrain_topology(&mut merged, &theta, &keep).unwrap();
+    assert_ne!(near(&merged, touching), before);
+}

@@ -22,6 +22,7 @@ mod clusters;
 mod constrain;
 mod cut;
 mod distance;
+mod droplets;
 mod error;
 mod face_arcs;
 mod field;
@@ -45,6 +46,7 @@ mod triangulate;
 
 pub use constrain::constrain_topology;
 pub use distance::PHI_HALF_WIDTH;
+pub(crate) use droplets::{around, cell, droplets};
 pub use error::TopologyError;
 pub use field::Field;
 pub use options::{CONTINUE_WITHIN, TopologyOptions};

@@ -9,6 +9,7 @@
 //! frame holds (plus `next_id`): resuming from a written frame continues bit-identically.
 
 mod churn;
+mod droplets;
 
 pub use churn::{Churn, StageChurn};
 
@@ -397,6 +398,10 @@ impl Tracker {
         );
         let (converged, fine) = moved?;
         let phi_t = phi_t?;
+        if self.options.motion == Motion::Register {
+            droplets::follow_droplets(backend, &mut self.mesh, (target, bvh), &self.grid)
+                .map_err(|e| TrackError::at(frame, e))?;
+        }
         times.register = ms(t.elapsed());
         times.register_fine = fine;
         Ok((converged, phi_t))
