@@ -187,7 +187,7 @@ fn resample(
                 seeds(&grid, theta, &steps[step - 1])
             }
         };
-        // Seeds only around droplets apart from the rest leave the mesh as it is, unless it is
+        // Seeds only around droplets apart from the body leave the mesh as it is, unless it is
         // wrong elsewhere too: then they are taken, as without droplets set apart.
         let unset: Vec<Cell> = cells
             .iter()

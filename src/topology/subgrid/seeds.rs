@@ -37,6 +37,7 @@ use crate::compute::Backend;
 use crate::geometry::Components;
 use crate::grid::{GridFrame, LatticeMesh, cross_axes, rasterize};
 use crate::mesh::IndexedMesh;
+use crate::topology::cell;
 use crate::topology::classify::dilate;
 use crate::topology::clusters::{clusters, euler, touching};
 use crate::topology::keys::{Cell, NEIGHBOURS, PARALLEL_EDGES};
@@ -53,11 +54,6 @@ pub(super) struct Seeds {
     /// The cells of the far samples and of every cluster, grown by one (the region's last
     /// fallback).
     pub all: Vec<Cell>,
-}
-
-/// The grid cell holding `p`.
-pub(super) fn cell(frame: &GridFrame, p: Vec3) -> Cell {
-    frame.to_grid(p).map(|x| x.floor() as i32)
 }
 
 /// The seeds where `ours` (the tracked component or components, as a mesh of its own) and `input`
