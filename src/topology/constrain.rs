@@ -42,7 +42,7 @@ use super::record::record;
 use super::region::{Checks, grow};
 use super::transfer::{Carry, Transfer};
 use super::{Abandoned, Resampling, TopologyError, TopologyOptions, TopologyReport};
-use super::{around, cell, droplets};
+use super::{cell, droplets};
 use crate::mesh::{IndexedMesh, Mesh, MeshError, Replacement};
 
 /// Constrains the topology of `mesh` to that of Θ's isosurface (paper §4.3): where the two differ
@@ -112,11 +112,12 @@ fn resample(
     // back with fresh ids: on the dam break's frame 28, 274 of its droplets' 276 vertices went.
     let apart: FxHashSet<Cell> = if options.keep_shared_sheets {
         let frame = theta.frame();
-        droplets(frame, &input, true)
+        let cells: Vec<Cell> = droplets(frame, &input, true)
             .iter()
             .flatten()
-            .flat_map(|&v| around(cell(frame, input.positions[v as usize])))
-            .collect()
+            .map(|&v| cell(frame, input.positions[v as usize]))
+            .collect();
+        dilate(&cells, 1).into_iter().collect()
     } else {
         FxHashSet::default()
     };

@@ -6,7 +6,9 @@
 use glam::Vec3;
 use rustc_hash::{FxHashMap, FxHashSet};
 
-use super::keys::{Cell, NEIGHBOURS};
+use super::classify::dilate;
+use super::keys::Cell;
+use super::mismatch::{spans, within};
 use super::subgrid::SMALL_CELLS;
 use crate::geometry::Components;
 use crate::grid::GridFrame;
@@ -21,6 +23,7 @@ pub(crate) fn droplets(frame: &GridFrame, mesh: &IndexedMesh, apart: bool) -> Ve
     let mut components = Components::new(mesh.positions.len(), &mesh.triangles);
     let mut number: FxHashMap<u32, usize> = FxHashMap::default();
     let mut members: Vec<Vec<u32>> = Vec::new();
+    let mut labels: Vec<u32> = Vec::with_capacity(mesh.positions.len());
     for v in 0..mesh.positions.len() as u32 {
         let root = components.find(v);
         let k = *number.entry(root).or_insert_with(|| {
@@ -28,36 +31,31 @@ pub(crate) fn droplets(frame: &GridFrame, mesh: &IndexedMesh, apart: bool) -> Ve
             members.len() - 1
         });
         members[k].push(v);
+        labels.push(k as u32);
     }
-    let small = SMALL_CELLS * frame.spacing();
-    let is_droplet: Vec<bool> = members
-        .iter()
-        .map(|vertices| {
-            let (lo, hi) = vertices.iter().map(|&v| mesh.positions[v as usize]).fold(
-                (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-                |(lo, hi), p| (lo.min(p), hi.max(p)),
-            );
-            (hi - lo).length() <= small
-        })
-        .collect();
-    let mut body: FxHashSet<Cell> = FxHashSet::default();
-    if apart {
-        for (vertices, _) in members.iter().zip(&is_droplet).filter(|(_, d)| !**d) {
-            for &v in vertices {
-                body.insert(cell(frame, mesh.positions[v as usize]));
-            }
-        }
-    }
+    let spans = spans(&mesh.positions, &labels, members.len());
+    let is_droplet = within(frame, &spans, SMALL_CELLS);
+    let body: FxHashSet<Cell> = if apart {
+        mesh.positions
+            .iter()
+            .zip(&labels)
+            .filter(|(_, l)| !is_droplet[**l as usize])
+            .map(|(&p, _)| cell(frame, p))
+            .collect()
+    } else {
+        FxHashSet::default()
+    };
     members
         .into_iter()
         .zip(is_droplet)
         .filter(|(vertices, droplet)| {
-            *droplet
-                && (!apart
-                    || vertices
-                        .iter()
-                        .flat_map(|&v| around(cell(frame, mesh.positions[v as usize])))
-                        .all(|c| !body.contains(&c)))
+            let cells = || -> Vec<Cell> {
+                vertices
+                    .iter()
+                    .map(|&v| cell(frame, mesh.positions[v as usize]))
+                    .collect()
+            };
+            *droplet && (!apart || dilate(&cells(), 1).iter().all(|c| !body.contains(c)))
         })
         .map(|(vertices, _)| vertices)
         .collect()
@@ -66,11 +64,4 @@ pub(crate) fn droplets(frame: &GridFrame, mesh: &IndexedMesh, apart: bool) -> Ve
 /// The grid cell holding `p`.
 pub(crate) fn cell(frame: &GridFrame, p: Vec3) -> Cell {
     frame.to_grid(p).map(|x| x.floor() as i32)
-}
-
-/// `c` and the 26 cells around it.
-pub(crate) fn around(c: Cell) -> impl Iterator<Item = Cell> {
-    NEIGHBOURS
-        .iter()
-        .map(move |d| [c[0] + d[0], c[1] + d[1], c[2] + d[2]])
 }

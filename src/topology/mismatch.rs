@@ -278,7 +278,7 @@ pub(crate) fn mismatched(
 
 /// Per component (`labels` numbering the vertices at `positions`), the length of its bounding
 /// box's diagonal.
-fn spans(positions: &[Vec3], labels: &[u32], count: usize) -> Vec<f32> {
+pub(super) fn spans(positions: &[Vec3], labels: &[u32], count: usize) -> Vec<f32> {
     let mut boxes = vec![(Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)); count];
     for (p, &l) in positions.iter().zip(labels) {
         if let Some(b) = boxes.get_mut(l as usize) {
@@ -290,7 +290,7 @@ fn spans(positions: &[Vec3], labels: &[u32], count: usize) -> Vec<f32> {
 
 /// Per component of `spans`, whether it spans at most `cells` cells of `frame`: [`SMALL_CELLS`]
 /// for a droplet, which the sub-grid match settles.
-fn within(frame: &GridFrame, spans: &[f32], cells: f32) -> Vec<bool> {
+pub(super) fn within(frame: &GridFrame, spans: &[f32], cells: f32) -> Vec<bool> {
     spans
         .iter()
         .map(|&s| s <= cells * frame.spacing())

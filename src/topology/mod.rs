@@ -46,7 +46,7 @@ mod triangulate;
 
 pub use constrain::constrain_topology;
 pub use distance::PHI_HALF_WIDTH;
-pub(crate) use droplets::{around, cell, droplets};
+pub(crate) use droplets::{cell, droplets};
 pub use error::TopologyError;
 pub use field::Field;
 pub use options::{CONTINUE_WITHIN, TopologyOptions};

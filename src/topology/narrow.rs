@@ -63,12 +63,9 @@ mod tests {
     use crate::compute::Backend;
     use crate::grid::GridFrame;
     use crate::mesh::Mesh;
+    use crate::topology::cell;
     use crate::topology::field::Field;
     use crate::topology::isosurface::isosurface;
-
-    fn cell(frame: &GridFrame, p: Vec3) -> Cell {
-        frame.to_grid(p).map(|x| x.floor() as i32)
-    }
 
     #[test]
     fn a_ripple_is_dropped_and_a_missing_ball_is_kept() {
