@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""A real fluid sequence from a third solver: a SPlisHSPlasH (DFSPH) double dam break around a
-box obstacle, surfaced per frame with splashsurf. See README.md; `generate.sh OUT` runs both steps.
+"""Real fluid sequences from a third solver: a SPlisHSPlasH (DFSPH) double dam break around a box
+obstacle (or, with SCENE=pool_crown, a pool's splash crown and a falling block), surfaced per frame
+with splashsurf. See README.md; `generate.sh OUT` runs both steps.
 
   python generate.py sim OUT    # OUT/particles/particles_NNNN.npy and OUT/scene.json
   python generate.py mesh OUT   # OUT/frames/fluid_mesh_NNNN.obj
@@ -17,12 +18,37 @@ STEPS_PER_FRAME = round(1.0 / (FPS * DT))   # 25
 
 # splashsurf settings (multiples of R where noted)
 SMOOTHING_LENGTH = 2.0   # x R  (kernel compact support = 2 x smoothing length = 4R)
-CUBE_SIZE = float(os.environ.get("CUBE_SIZE", "1.0"))  # x R
 ISO = 0.6                # iso-surface threshold (fraction of rest density)
+
+# The scenes (SCENE=...): the tank (centre, size), the obstacle (centre, turn about y, size), the
+# water blocks and the marching-cubes cell (x R, CUBE_SIZE overrides it).
+SCENES = {
+    # Two columns in opposite corners collapse around a box on the floor (README.md).
+    "double_dambreak": {
+        "tank": ([0, 0.6, 0], [1.0, 1.2, 0.6], [40, 48, 24]),
+        "obstacle": ([0.0, 0.075, 0.0], 0.4),
+        "blocks": [([-0.485, 0.015, -0.285], [-0.265, 0.60, 0.05]),
+                   ([0.265, 0.015, -0.05], [0.485, 0.45, 0.285])],
+        "cube": 1.0,
+    },
+    # A shallow pool whose lattice overlaps a post: the solver expels the overlapping particles in
+    # the first steps, throwing a crown of sheets and droplets against the walls, while a block of
+    # water falls into the pool (merging at frame 11) (README.md).
+    "pool_crown": {
+        "tank": ([0, 0.4, 0], [0.6, 0.8, 0.6], [30, 40, 30]),
+        "obstacle": ([0.12, 0.075, -0.1], 0.7),
+        "blocks": [([-0.285, 0.015, -0.285], [0.285, 0.10, 0.285]),
+                   ([-0.13, 0.42, -0.07], [0.05, 0.62, 0.11])],
+        "cube": 0.8,
+    },
+}
+SCENE = SCENES[os.environ.get("SCENE", "double_dambreak")]
+CUBE_SIZE = float(os.environ.get("CUBE_SIZE", SCENE["cube"]))  # x R
 
 
 def scene(models):
     box = os.path.join(models, "UnitBox.obj")
+    (tank_at, tank_size, tank_map), (post_at, post_turn) = SCENE["tank"], SCENE["obstacle"]
     return {
         "Configuration": {
             "particleRadius": R,
@@ -44,25 +70,22 @@ def scene(models):
             "Standard viscosity": {"viscosity": 0.01},
         }],
         "RigidBodies": [
-            {   # tank: interior x,z in [-0.5,0.5]x[-0.3,0.3], y in [0,1.2]
-                "id": 1, "geometryFile": box, "translation": [0, 0.6, 0],
+            {   # tank: its interior is the box, floor at y = 0
+                "id": 1, "geometryFile": box, "translation": tank_at,
                 "rotationAxis": [1, 0, 0], "rotationAngle": 0,
-                "scale": [1.0, 1.2, 0.6], "isDynamic": False, "isWall": True,
+                "scale": tank_size, "isDynamic": False, "isWall": True,
                 "invertSDF": True, "mapInvert": True, "mapThickness": 0.0,
-                "mapResolution": [40, 48, 24],
+                "mapResolution": tank_map,
             },
-            {   # obstacle: box 0.10 x 0.15 x 0.10 on the floor, centre of the tank
-                "id": 2, "geometryFile": box, "translation": [0.0, 0.075, 0.0],
-                "rotationAxis": [0, 1, 0], "rotationAngle": 0.4,
+            {   # obstacle: box 0.10 x 0.15 x 0.10 on the floor
+                "id": 2, "geometryFile": box, "translation": post_at,
+                "rotationAxis": [0, 1, 0], "rotationAngle": post_turn,
                 "scale": [0.10, 0.15, 0.10], "isDynamic": False, "isWall": False,
                 "mapInvert": False, "mapThickness": 0.0,
                 "mapResolution": [20, 30, 20],
             },
         ],
-        "FluidBlocks": [
-            {"denseMode": 0, "start": [-0.485, 0.015, -0.285], "end": [-0.265, 0.60, 0.05]},
-            {"denseMode": 0, "start": [0.265, 0.015, -0.05], "end": [0.485, 0.45, 0.285]},
-        ],
+        "FluidBlocks": [{"denseMode": 0, "start": a, "end": b} for a, b in SCENE["blocks"]],
     }
 
 

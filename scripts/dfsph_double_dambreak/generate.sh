@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Usage: generate.sh OUT. Simulates and surfaces the DFSPH double dam break into the folder OUT:
-# OUT/frames/fluid_mesh_0000.obj … fluid_mesh_0044.obj. Needs Python 3.11 and PyPI; about 4 min of
-# simulation and 30 s of meshing on 2 cores. See README.md.
+# Usage: [SCENE=pool_crown] generate.sh OUT. Simulates and surfaces the DFSPH double dam break (or
+# the scene SCENE names) into the folder OUT: OUT/frames/fluid_mesh_0000.obj … fluid_mesh_0044.obj.
+# Needs Python 3.11 and PyPI; about 4 min of simulation and 30 s of meshing on 2 cores (pool_crown:
+# 1 min). See README.md.
 set -euo pipefail
 if [ $# -ne 1 ]; then
   echo "usage: $0 OUT (the folder that receives the particles and the frames)" >&2
