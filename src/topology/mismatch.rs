@@ -7,6 +7,7 @@
 use glam::Vec3;
 use rustc_hash::{FxHashMap, FxHashSet};
 
+use super::cell;
 use super::field::Field;
 use super::isosurface::isosurface_positions;
 use super::keys::{Cell, GridEdge};
@@ -143,10 +144,7 @@ pub(crate) fn mismatched(
     let (ours, our_labels) = result.topology_with_labels();
     let (theirs, their_cells) = (&iso.topology, &iso.cells);
     let our_cells = cells_of(
-        result
-            .positions
-            .iter()
-            .map(|p| frame.to_grid(*p).map(|x| x.floor() as i32)),
+        result.positions.iter().map(|p| cell(frame, *p)),
         &our_labels,
     );
     // The components of the other surface in or next to each component's cells.
@@ -320,7 +318,7 @@ mod tests {
             .positions
             .iter()
             .map(|&p| GridEdge {
-                corner: frame().to_grid(p).map(|x| x.floor() as i32),
+                corner: cell(&frame(), p),
                 axis: 0,
             })
             .collect();
@@ -384,13 +382,13 @@ mod tests {
         let far = IndexedMesh::icosphere(Vec3::new(6.0, 0.0, 0.0), 1.0, 3);
         let merged = IndexedMesh::icosphere(Vec3::ZERO, 1.9, 3);
         let wrong = compare(&join(&join(&left, &right), &far), &join(&merged, &far));
-        let cell = |p: Vec3| frame().to_grid(p).map(|x| x.floor() as i32);
-        assert!(wrong.binary_search(&cell(left.positions[0])).is_ok());
-        assert!(wrong.binary_search(&cell(right.positions[0])).is_ok());
+        let cell_of = |p: Vec3| cell(&frame(), p);
+        assert!(wrong.binary_search(&cell_of(left.positions[0])).is_ok());
+        assert!(wrong.binary_search(&cell_of(right.positions[0])).is_ok());
         assert!(
             far.positions
                 .iter()
-                .all(|&p| wrong.binary_search(&cell(p)).is_err())
+                .all(|&p| wrong.binary_search(&cell_of(p)).is_err())
         );
     }
 
@@ -422,16 +420,16 @@ mod tests {
         let far = IndexedMesh::icosphere(Vec3::new(9.0, 0.0, 0.0), 2.5, 3);
         let result = join(&body, &blob);
         let theta = join(&join(&body, &blob), &far);
-        let cell = |p: Vec3| frame().to_grid(p).map(|x| x.floor() as i32);
-        let explained: FxHashSet<Cell> = [cell(body.positions[0])].into_iter().collect();
+        let cell_of = |p: Vec3| cell(&frame(), p);
+        let explained: FxHashSet<Cell> = [cell_of(body.positions[0])].into_iter().collect();
         // The blob's only partner besides the body's is left alone with the body; the far body
         // Θ has alone is still a mismatch, and the near blob is not.
         let wrong = compare_explained(&result, &theta, &explained);
-        assert!(wrong.binary_search(&cell(far.positions[0])).is_ok());
+        assert!(wrong.binary_search(&cell_of(far.positions[0])).is_ok());
         assert!(
             blob.positions
                 .iter()
-                .all(|&p| wrong.binary_search(&cell(p)).is_err())
+                .all(|&p| wrong.binary_search(&cell_of(p)).is_err())
         );
     }
 
@@ -444,15 +442,15 @@ mod tests {
         let extra = IndexedMesh::icosphere(Vec3::new(8.0, 0.0, 0.0), 2.5, 3);
         let droplet = IndexedMesh::icosphere(Vec3::new(1.2, 0.0, 0.0), 0.1, 1);
         let result = join(&join(&ball, &extra), &droplet);
-        let cell = |p: Vec3| frame().to_grid(p).map(|x| x.floor() as i32);
+        let cell_of = |p: Vec3| cell(&frame(), p);
         assert!(!compare(&result, &ball).is_empty());
-        let explained: FxHashSet<Cell> = [cell(extra.positions[0])].into_iter().collect();
+        let explained: FxHashSet<Cell> = [cell_of(extra.positions[0])].into_iter().collect();
         assert!(compare_explained(&result, &ball, &explained).is_empty());
         // An unexplained ball is still a mismatch, droplet or not.
-        let other: FxHashSet<Cell> = [cell(Vec3::new(-9.0, 0.0, 0.0))].into_iter().collect();
+        let other: FxHashSet<Cell> = [cell_of(Vec3::new(-9.0, 0.0, 0.0))].into_iter().collect();
         let wrong = compare_explained(&result, &ball, &other);
-        assert!(wrong.binary_search(&cell(extra.positions[0])).is_ok());
-        assert!(wrong.binary_search(&cell(droplet.positions[0])).is_err());
+        assert!(wrong.binary_search(&cell_of(extra.positions[0])).is_ok());
+        assert!(wrong.binary_search(&cell_of(droplet.positions[0])).is_err());
     }
 
     /// Two blobs of the result within a cell of each other beside one blob of Θ pair with no
@@ -460,8 +458,9 @@ mod tests {
     /// size of a blob is a mismatch.
     #[test]
     fn a_group_of_blobs_that_pairs_badly_is_left_to_the_caller() {
-        let cell = |p: Vec3| frame().to_grid(p).map(|x| x.floor() as i32);
-        let explained: FxHashSet<Cell> = [cell(Vec3::new(-40.0, 0.0, 0.0))].into_iter().collect();
+        let cell_of = |p: Vec3| cell(&frame(), p);
+        let explained: FxHashSet<Cell> =
+            [cell_of(Vec3::new(-40.0, 0.0, 0.0))].into_iter().collect();
         let surfaces = |scale: f32| {
             let a = IndexedMesh::icosphere(Vec3::ZERO, 0.4 * scale, 3);
             let b = IndexedMesh::icosphere(Vec3::new(0.95 * scale, 0.0, 0.0), 0.4 * scale, 3);
@@ -480,8 +479,9 @@ mod tests {
     /// blob, are left alone; one more on either side is not.
     #[test]
     fn a_group_with_the_same_components_on_both_sides_is_left_to_the_caller() {
-        let cell = |p: Vec3| frame().to_grid(p).map(|x| x.floor() as i32);
-        let explained: FxHashSet<Cell> = [cell(Vec3::new(-40.0, 0.0, 0.0))].into_iter().collect();
+        let cell_of = |p: Vec3| cell(&frame(), p);
+        let explained: FxHashSet<Cell> =
+            [cell_of(Vec3::new(-40.0, 0.0, 0.0))].into_iter().collect();
         // Two large balls a little apart in the result, and two in Θ shifted along the line by
         // half the gap, so each of Θ's lies next to both of the result's.
         let ball = |x: f32| IndexedMesh::icosphere(Vec3::new(x, 0.0, 0.0), 2.5, 3);
