@@ -3,11 +3,13 @@
 //! every frame is a closed manifold with the input's components and Euler characteristics, within
 //! one input edge length of it, with 99% of its triangles at 10° or more — and the tracker keeps
 //! most of its vertices from frame to frame, which a tracker that copied its input every frame
-//! would not (it would carry over none).
+//! would not (it would carry over none). The GPU path tracks it as the CPU path does, bit for bit.
 
 use std::path::Path;
 use surftrack::compute::Backend;
+use surftrack::compute::parity::run_on_gpu;
 use surftrack::eval::{surface_distances, triangle_quality};
+use surftrack::events::EventList;
 use surftrack::io::{discover_sequence, read_frame};
 use surftrack::mesh::IndexedMesh;
 use surftrack::sequence::{FrameSource, Progress, track_sequence};
@@ -22,29 +24,48 @@ fn euler(mesh: &IndexedMesh) -> Vec<i64> {
     e
 }
 
-#[test]
-fn drops_merging_into_a_pool_keep_their_vertices() {
+/// The first `COUNT` frames' files.
+fn frame_paths() -> Vec<std::path::PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/droppool_mpm_taichi");
     let sequence = discover_sequence(&dir).unwrap();
-    let paths: Vec<_> = sequence.frames[..COUNT]
+    sequence.frames[..COUNT]
         .iter()
         .map(|(_, p)| p.clone())
-        .collect();
-    let mut tracked: Vec<(IndexedMesh, Option<f64>)> = Vec::new();
+        .collect()
+}
+
+/// Every tracked frame with its events and carried-over share, tracked on `backend`.
+fn track(
+    paths: &[std::path::PathBuf],
+    backend: &Backend,
+) -> Vec<(IndexedMesh, EventList, Option<f64>)> {
+    let mut tracked = Vec::new();
     track_sequence::<()>(
-        FrameSource::Files(&paths),
-        &Backend::Cpu,
+        FrameSource::Files(paths),
+        backend,
         &TrackOptions::default(),
         None,
         |progress| {
-            if let Progress::Frame { tracker, log, .. } = progress {
-                tracked.push((tracker.mesh().to_indexed(), log.carried));
+            if let Progress::Frame {
+                tracker,
+                events,
+                log,
+            } = progress
+            {
+                tracked.push((tracker.mesh().to_indexed(), events.clone(), log.carried));
             }
         },
     )
     .unwrap();
+    tracked
+}
+
+#[test]
+fn drops_merging_into_a_pool_keep_their_vertices() {
+    let paths = frame_paths();
+    let tracked = track(&paths, &Backend::Cpu);
     let mut carried = Vec::new();
-    for (k, (out, share)) in tracked.iter().enumerate() {
+    for (k, (out, _, share)) in tracked.iter().enumerate() {
         let input = read_frame(&paths[k]).unwrap().mesh;
         out.validate().unwrap_or_else(|e| panic!("frame {k}: {e}"));
         assert_eq!(euler(out), euler(&input), "frame {k}: components' χ");
@@ -67,4 +88,21 @@ fn drops_merging_into_a_pool_keep_their_vertices() {
         "a frame kept under 70% of its vertices: {carried:?}"
     );
     assert!(mean >= 0.9, "mean carried-over share {mean}: {carried:?}");
+}
+
+/// Real data through every stage the GPU path runs as kernels (correspondences, closest points,
+/// the fine stage's solve, rasterization, sweeps, band distances), a merge included: the same
+/// vertices, ids, triangles and events as the CPU path, frame by frame.
+#[test]
+fn the_gpu_path_tracks_the_drop_pool_as_the_cpu_path_does() {
+    run_on_gpu(|gpu| {
+        let paths = frame_paths();
+        let (cpu, gpu) = (track(&paths, &Backend::Cpu), track(&paths, gpu));
+        assert_eq!(cpu.len(), COUNT);
+        assert_eq!(gpu.len(), COUNT);
+        for (k, (c, g)) in cpu.iter().zip(&gpu).enumerate() {
+            assert!(c.0 == g.0, "frame {k}: the tracked meshes differ");
+            assert!(c.1 == g.1, "frame {k}: the events differ");
+        }
+    });
 }
