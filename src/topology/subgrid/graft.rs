@@ -33,7 +33,9 @@
 //! tries (the region creeping along a loop that needs more), the graft starts over growing
 //! around whole loops. Where step 4 finds samples beyond the bound, the region grows around
 //! them; where step 4 finds the result in pieces (the rim cut a bridge of the input), it grows
-//! where the smaller pieces come next to the largest; where step 4 finds another Euler
+//! where the smaller pieces come next to the largest; where step 4 finds it not closed and
+//! manifold (an edge of the strips that four triangles share), it grows around that element;
+//! where step 4 finds another Euler
 //! characteristic, the tracked surface kept and the input left out differ in topology outside
 //! the region, and the region grows around the rims whose growth alone brings their numbers of
 //! handles together ([`mending_rims`]: on the dam break's frame 34 the main body's region
@@ -60,7 +62,7 @@ use super::seeds;
 use super::stitch::least_cost_steps;
 use crate::compute::Backend;
 use crate::grid::GridFrame;
-use crate::mesh::{IndexedMesh, degenerate_triangle, min_angle_degrees};
+use crate::mesh::{IndexedMesh, MeshError, degenerate_triangle, min_angle_degrees};
 use crate::project::Bvh;
 use crate::topology::cell;
 use crate::topology::classify::dilate;
@@ -323,7 +325,9 @@ fn grow_graft(
                             }
                         }
                     },
-                    Verdict::Far(points) | Verdict::Apart(points) => cells(points),
+                    Verdict::Far(points) | Verdict::Apart(points) | Verdict::Invalid(points) => {
+                        cells(points)
+                    }
                 }
             }
         };
@@ -1074,8 +1078,14 @@ pub(super) fn assemble(
 /// What step 4 found.
 enum Verdict {
     Meets,
-    /// Not closed and manifold, or not one component of the input's Euler characteristic.
+    /// Not one component of the input's Euler characteristic, or not closed and manifold where
+    /// the error names no vertex.
     Fails,
+    /// Not closed and manifold: the points of the element that is not (a strip's edge shared by
+    /// four triangles, say). Growing the region around them re-zips the loops there; taking it
+    /// for a wrong topology grew the dam break's frame 34 from 8,535 to 14,258 cells around
+    /// every sample farther than half the bound.
+    Invalid(Vec<Vec3>),
     /// These samples (of either surface) lie farther than the bound from the other.
     Far(Vec<Vec3>),
     /// The result falls apart: these are the points of its smaller pieces next to its largest,
@@ -1123,8 +1133,19 @@ fn apart(part: &IndexedMesh, labels: &[u32], spacing: f32) -> Vec<Vec3> {
 /// The verdict on the shape of a grafted `part`, where it fails: not closed and manifold, in
 /// pieces, or not of the input's Euler characteristic.
 fn shape_verdict(part: &IndexedMesh, bounds: &Bounds) -> Option<Verdict> {
-    let Ok(edges) = part.validated_edges() else {
-        return Some(Verdict::Fails);
+    let edges = match part.validated_edges() {
+        Ok(edges) => edges,
+        Err(error) => {
+            let points: Vec<Vec3> = invalid_vertices(part, &error)
+                .into_iter()
+                .filter_map(|v| part.positions.get(v as usize).copied())
+                .collect();
+            return Some(if points.is_empty() {
+                Verdict::Fails
+            } else {
+                Verdict::Invalid(points)
+            });
+        }
     };
     let (topology, labels) = part.topology_from_edges(&edges);
     if topology.components.len() > 1 {
@@ -1137,6 +1158,25 @@ fn shape_verdict(part: &IndexedMesh, bounds: &Bounds) -> Option<Verdict> {
         return Some(Verdict::Fails);
     }
     None
+}
+
+/// The vertices of `part` that `error` names: the corners of the element that is not closed and
+/// manifold.
+fn invalid_vertices(part: &IndexedMesh, error: &MeshError) -> Vec<u32> {
+    match *error {
+        MeshError::DegenerateFace { triangle } => part
+            .triangles
+            .get(triangle)
+            .map_or(Vec::new(), |t| t.to_vec()),
+        MeshError::OpenBoundary { a, b, .. }
+        | MeshError::NonManifoldEdge { a, b, .. }
+        | MeshError::InconsistentOrientation { a, b, .. } => vec![a, b],
+        MeshError::NonManifoldVertex { vertex, .. } => vec![vertex],
+        MeshError::IsolatedVertex { vertex } | MeshError::NonFiniteCoordinate { vertex, .. } => {
+            vec![vertex as u32]
+        }
+        _ => Vec::new(),
+    }
 }
 
 /// The samples of a joined result farther from the other surface than half the bound, else than
@@ -1355,6 +1395,61 @@ mod tests {
         );
         assert!(!narrowed);
         assert_eq!(whole.len(), 128);
+    }
+
+    /// A joined result that is not manifold names where (the two endpoints of an edge four
+    /// triangles share), so the region grows there; a closed result of another Euler
+    /// characteristic fails without a place, and one of the input's passes.
+    #[test]
+    fn a_result_that_is_not_manifold_names_where() {
+        let p = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+        let positions = vec![
+            p(0.0, 0.0, 0.0),
+            p(1.0, 0.0, 0.0),
+            p(0.0, 1.0, 0.0),
+            p(0.0, 0.0, 1.0),
+            p(0.0, -1.0, 0.0),
+            p(0.0, 0.0, -1.0),
+        ];
+        // Two tetrahedra, the second the first turned half a turn about x: both share edge 0–1.
+        let triangles = vec![
+            [0, 2, 1],
+            [0, 1, 3],
+            [0, 3, 2],
+            [1, 2, 3],
+            [0, 4, 1],
+            [0, 1, 5],
+            [0, 5, 4],
+            [1, 4, 5],
+        ];
+        let pinched = IndexedMesh::new(positions.clone(), triangles);
+        let sphere = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 2);
+        let bvh = Bvh::build(&sphere).unwrap();
+        let input = InputDistances::new(&bvh);
+        let bounds = |euler: i64| Bounds {
+            backend: &Backend::Cpu,
+            input: &input,
+            spacing: 0.5,
+            max_distance: 0.5,
+            euler,
+            nearest: None,
+        };
+        match shape_verdict(&pinched, &bounds(2)) {
+            Some(Verdict::Invalid(points)) => {
+                assert!(!points.is_empty());
+                assert!(
+                    points
+                        .iter()
+                        .all(|q| *q == positions[0] || *q == positions[1])
+                );
+            }
+            _ => panic!("a non-manifold result must name its element"),
+        }
+        assert!(matches!(
+            shape_verdict(&sphere, &bounds(0)),
+            Some(Verdict::Fails)
+        ));
+        assert!(shape_verdict(&sphere, &bounds(2)).is_none());
     }
 
     /// χ of a mask's triangles: a closed sphere's is 2, the sphere less one triangle a disc's, 1,
