@@ -43,6 +43,27 @@ pub enum MeshError {
     Corrupt(String),
 }
 
+impl MeshError {
+    /// The vertices of the mesh with `triangles` that this error names: the corners of a
+    /// degenerate triangle, the ends of an edge, one vertex; none for an error about the whole
+    /// mesh. A repair grows the region it re-samples around them.
+    pub fn vertices(&self, triangles: &[[u32; 3]]) -> Vec<u32> {
+        match *self {
+            Self::DegenerateFace { triangle } => {
+                triangles.get(triangle).map_or(Vec::new(), |t| t.to_vec())
+            }
+            Self::OpenBoundary { a, b, .. }
+            | Self::NonManifoldEdge { a, b, .. }
+            | Self::InconsistentOrientation { a, b, .. } => vec![a, b],
+            Self::NonManifoldVertex { vertex, .. } => vec![vertex],
+            Self::IsolatedVertex { vertex } | Self::NonFiniteCoordinate { vertex, .. } => {
+                vec![vertex as u32]
+            }
+            _ => Vec::new(),
+        }
+    }
+}
+
 /// Why a replacement's record does not account for its surface.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
 pub enum ReplacementError {
@@ -58,4 +79,27 @@ pub enum ReplacementError {
     Lost { id: u64 },
     #[error("vertex {id} is removed but was not in the mesh, or is still in the surface")]
     NotRemovable { id: u64 },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_error_names_the_vertices_of_its_element() {
+        let triangles = [[0, 1, 2], [2, 1, 3]];
+        let degenerate = MeshError::DegenerateFace { triangle: 1 };
+        assert_eq!(degenerate.vertices(&triangles), vec![2, 1, 3]);
+        let edge = MeshError::NonManifoldEdge {
+            a: 4,
+            b: 7,
+            count: 4,
+        };
+        assert_eq!(edge.vertices(&triangles), vec![4, 7]);
+        let bowtie = MeshError::NonManifoldVertex { vertex: 5, fans: 2 };
+        assert_eq!(bowtie.vertices(&triangles), vec![5]);
+        assert!(MeshError::Empty.vertices(&triangles).is_empty());
+        let missing = MeshError::DegenerateFace { triangle: 9 };
+        assert!(missing.vertices(&triangles).is_empty());
+    }
 }

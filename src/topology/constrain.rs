@@ -43,7 +43,7 @@ use super::region::{Checks, grow};
 use super::transfer::{Carry, Transfer};
 use super::{Abandoned, Resampling, TopologyError, TopologyOptions, TopologyReport};
 use super::{cell, droplets};
-use crate::mesh::{IndexedMesh, Mesh, MeshError, Replacement};
+use crate::mesh::{IndexedMesh, Mesh, Replacement};
 
 /// Constrains the topology of `mesh` to that of Θ's isosurface (paper §4.3): where the two differ
 /// deeply, the mesh's triangles are replaced by Θ's isosurface, cut and stitched along the boundary
@@ -399,18 +399,7 @@ fn verify(
     let mut output = mesh.clone();
     output.ids = Some(recorded.ids.clone());
     output.attributes.clear();
-    Mesh::from_indexed(&output).map_err(|e| {
-        Failure::Element(match e {
-            MeshError::DegenerateFace { triangle } => mesh.triangles[triangle].to_vec(),
-            MeshError::OpenBoundary { a, b, .. }
-            | MeshError::NonManifoldEdge { a, b, .. }
-            | MeshError::InconsistentOrientation { a, b, .. } => vec![a, b],
-            MeshError::NonManifoldVertex { vertex, .. } => vec![vertex],
-            MeshError::IsolatedVertex { vertex } => vec![vertex as u32],
-            MeshError::NonFiniteCoordinate { vertex, .. } => vec![vertex as u32],
-            _ => Vec::new(),
-        })
-    })
+    Mesh::from_indexed(&output).map_err(|e| Failure::Element(e.vertices(&mesh.triangles)))
 }
 
 /// Cells a point lies in or on.

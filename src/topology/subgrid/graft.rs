@@ -62,7 +62,7 @@ use super::seeds;
 use super::stitch::least_cost_steps;
 use crate::compute::Backend;
 use crate::grid::GridFrame;
-use crate::mesh::{IndexedMesh, MeshError, degenerate_triangle, min_angle_degrees};
+use crate::mesh::{IndexedMesh, degenerate_triangle, min_angle_degrees};
 use crate::project::Bvh;
 use crate::topology::cell;
 use crate::topology::classify::dilate;
@@ -1136,7 +1136,8 @@ fn shape_verdict(part: &IndexedMesh, bounds: &Bounds) -> Option<Verdict> {
     let edges = match part.validated_edges() {
         Ok(edges) => edges,
         Err(error) => {
-            let points: Vec<Vec3> = invalid_vertices(part, &error)
+            let points: Vec<Vec3> = error
+                .vertices(&part.triangles)
                 .into_iter()
                 .filter_map(|v| part.positions.get(v as usize).copied())
                 .collect();
@@ -1158,25 +1159,6 @@ fn shape_verdict(part: &IndexedMesh, bounds: &Bounds) -> Option<Verdict> {
         return Some(Verdict::Fails);
     }
     None
-}
-
-/// The vertices of `part` that `error` names: the corners of the element that is not closed and
-/// manifold.
-fn invalid_vertices(part: &IndexedMesh, error: &MeshError) -> Vec<u32> {
-    match *error {
-        MeshError::DegenerateFace { triangle } => part
-            .triangles
-            .get(triangle)
-            .map_or(Vec::new(), |t| t.to_vec()),
-        MeshError::OpenBoundary { a, b, .. }
-        | MeshError::NonManifoldEdge { a, b, .. }
-        | MeshError::InconsistentOrientation { a, b, .. } => vec![a, b],
-        MeshError::NonManifoldVertex { vertex, .. } => vec![vertex],
-        MeshError::IsolatedVertex { vertex } | MeshError::NonFiniteCoordinate { vertex, .. } => {
-            vec![vertex as u32]
-        }
-        _ => Vec::new(),
-    }
 }
 
 /// The samples of a joined result farther from the other surface than half the bound, else than
