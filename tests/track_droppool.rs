@@ -3,7 +3,8 @@
 //! every frame is a closed manifold with the input's components and Euler characteristics, within
 //! one input edge length of it, with 99% of its triangles at 10° or more — and the tracker keeps
 //! most of its vertices from frame to frame, which a tracker that copied its input every frame
-//! would not (it would carry over none). The GPU path tracks it as the CPU path does, bit for bit.
+//! would not (it would carry over none). The GPU path tracks it as the CPU path does, bit for bit,
+//! and the same frames scaled by a power of two track to the same result, scaled.
 
 use std::path::Path;
 use surftrack::compute::Backend;
@@ -39,9 +40,17 @@ fn track(
     paths: &[std::path::PathBuf],
     backend: &Backend,
 ) -> Vec<(IndexedMesh, EventList, Option<f64>)> {
+    track_from(FrameSource::Files(paths), backend)
+}
+
+/// [`track`] from any source of frames.
+fn track_from(
+    source: FrameSource,
+    backend: &Backend,
+) -> Vec<(IndexedMesh, EventList, Option<f64>)> {
     let mut tracked = Vec::new();
     track_sequence::<()>(
-        FrameSource::Files(paths),
+        source,
         backend,
         &TrackOptions::default(),
         None,
@@ -105,4 +114,39 @@ fn the_gpu_path_tracks_the_drop_pool_as_the_cpu_path_does() {
             assert!(c.1 == g.1, "frame {k}: the events differ");
         }
     });
+}
+
+/// Every distance the tracker uses is relative to the mesh's own scale (its edge length, the grid
+/// spacing derived from it), so scaling the input scales the result. By a power of two every
+/// product and quotient scales exactly in floating point: the tracked frames are the unscaled
+/// ones scaled, bit for bit, with the same ids, triangles and events, through a merge.
+#[test]
+fn scaling_the_input_by_a_power_of_two_scales_the_tracked_frames_exactly() {
+    let inputs: Vec<IndexedMesh> = frame_paths()
+        .iter()
+        .map(|p| read_frame(p).unwrap().mesh)
+        .collect();
+    let reference = track_from(FrameSource::Meshes(&inputs), &Backend::Cpu);
+    assert_eq!(reference.len(), COUNT);
+    for scale in [4.0f32, 0.125] {
+        let scaled: Vec<IndexedMesh> = inputs
+            .iter()
+            .map(|m| {
+                let mut m = m.clone();
+                m.positions.iter_mut().for_each(|p| *p *= scale);
+                m
+            })
+            .collect();
+        let tracked = track_from(FrameSource::Meshes(&scaled), &Backend::Cpu);
+        assert_eq!(tracked.len(), COUNT);
+        for (k, (r, t)) in reference.iter().zip(&tracked).enumerate() {
+            let mut expected = r.0.clone();
+            expected.positions.iter_mut().for_each(|p| *p *= scale);
+            assert!(
+                t.0 == expected,
+                "scale {scale}, frame {k}: the tracked meshes differ"
+            );
+            assert!(t.1 == r.1, "scale {scale}, frame {k}: the events differ");
+        }
+    }
 }
