@@ -47,6 +47,64 @@ fn a_killed_run_resumes_to_identical_bytes() {
     }
 }
 
+/// Far from the world's origin the tracker works relative to an anchor and writes world
+/// coordinates, rounding its state at the end of every frame as the written frame holds it: a run
+/// stopped after three frames and resumed writes the same bytes as one run through.
+#[test]
+fn a_run_far_from_the_origin_resumes_to_identical_bytes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let near = tmp.path().join("near");
+    synth("merge", &near, "40", "6");
+    let input = tmp.path().join("in");
+    std::fs::create_dir(&input).unwrap();
+    for entry in std::fs::read_dir(&near).unwrap() {
+        let path = entry.unwrap().path();
+        let Ok(frame) = read_frame(&path) else {
+            continue;
+        };
+        let mut mesh = frame.mesh;
+        mesh.positions
+            .iter_mut()
+            .for_each(|p| *p += glam::Vec3::new(2048.0, -512.0, 4096.0));
+        let name = path.file_stem().unwrap().to_string_lossy().into_owned();
+        write_ply(&input.join(format!("{name}.ply")), &mesh).unwrap();
+    }
+    let whole = tmp.path().join("whole");
+    assert!(track(&input, &whole, &[]).status().unwrap().success());
+    let state: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(whole.join("track.json")).unwrap()).unwrap();
+    assert_ne!(state["anchor"], serde_json::json!([0.0, 0.0, 0.0]));
+
+    // The same run rolled back to three complete frames, as if it had been killed.
+    let stopped = tmp.path().join("stopped");
+    assert!(track(&input, &stopped, &[]).status().unwrap().success());
+    let state_path = stopped.join("track.json");
+    let mut state: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&state_path).unwrap()).unwrap();
+    state["completed"] = 3.into();
+    state["frames"].as_array_mut().unwrap().truncate(3);
+    state["written"].as_array_mut().unwrap().truncate(3);
+    state["next_id"] = state["written"][2]["next_id"].clone();
+    std::fs::write(&state_path, state.to_string()).unwrap();
+    for k in 3..6 {
+        std::fs::remove_file(stopped.join(format!("frames/frame_{k:04}.ply"))).unwrap();
+        std::fs::remove_file(stopped.join(format!("events/{k:04}.events"))).unwrap();
+    }
+    let resumed = track(&input, &stopped, &["--resume"]).output().unwrap();
+    assert!(
+        resumed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&resumed.stderr)
+    );
+    let (a, b) = (files(&whole), files(&stopped));
+    assert_eq!(a.len(), 12);
+    assert_eq!(a.len(), b.len());
+    for ((na, da), (nb, db)) in a.iter().zip(&b) {
+        assert_eq!(na, nb);
+        assert!(da == db, "{na} differs after resume");
+    }
+}
+
 #[test]
 fn resume_refuses_different_arguments_and_force_is_needed_to_overwrite() {
     let tmp = tempfile::tempdir().unwrap();

@@ -70,7 +70,7 @@ fn droplets_are_tracked_and_data_follows_them() {
                 log,
             } = progress
             {
-                tracked.push((tracker.mesh().to_indexed(), events.clone()));
+                tracked.push((tracker.world_mesh(), events.clone()));
                 carried.extend(log.carried);
             }
         },

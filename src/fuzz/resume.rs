@@ -178,7 +178,7 @@ impl Harness for Resume {
             last,
             &point.mesh,
             state.next_id,
-            state.edge_length,
+            (state.edge_length, glam::Vec3::from(state.anchor)),
             &options,
         )
         .is_err()

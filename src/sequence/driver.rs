@@ -130,7 +130,7 @@ where
                 state.completed.saturating_sub(1),
                 &point.mesh,
                 state.next_id,
-                state.edge_length,
+                (state.edge_length, glam::Vec3::from(state.anchor)),
                 options,
             )?;
             (tracker, state)
@@ -158,6 +158,7 @@ where
                 format: output.as_ref().map_or(FrameFormat::Ply, |o| o.format),
                 params: output.as_ref().map(|o| o.params.clone()),
                 edge_length: tracker.edge_length(),
+                anchor: tracker.anchor().to_array(),
                 completed: 0,
                 next_id: 0,
                 frames: Vec::new(),
@@ -268,7 +269,7 @@ fn record<'o, P: Clone>(
     output.map(|output| FrameWrite {
         output,
         k,
-        mesh: tracker.mesh().to_indexed(),
+        mesh: tracker.world_mesh(),
         events: encode(events),
         state: state.clone(),
     })

@@ -22,6 +22,10 @@ pub struct RunState<P> {
     pub format: FrameFormat,
     pub params: P,
     pub edge_length: f32,
+    /// The world position of the tracker's origin (`track::anchor_of`); 0 in runs recorded
+    /// before it existed, which tracked in world coordinates.
+    #[serde(default)]
+    pub anchor: [f32; 3],
     pub completed: usize,
     pub next_id: u64,
     pub frames: Vec<FrameLog>,

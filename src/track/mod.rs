@@ -5,12 +5,15 @@
 //! created or destroyed goes into the frame's event list (§4.4).
 //!
 //! The tracker holds one frame at a time, so memory follows the frame size, never the sequence
-//! length. At the end of every frame the mesh is compacted, so its whole state is what the written
-//! frame holds (plus `next_id`): resuming from a written frame continues bit-identically.
+//! length. At the end of every frame the mesh is compacted and its positions rounded as the
+//! written frame holds them (world coordinates, see [`anchor`]), so its whole state is what the
+//! written frame holds (plus `next_id`): resuming from a written frame continues bit-identically.
 
+mod anchor;
 mod churn;
 mod droplets;
 
+pub use anchor::anchor_of;
 pub use churn::{Churn, StageChurn};
 
 use crate::compute::Backend;
@@ -22,9 +25,12 @@ use crate::project::{Bvh, ProjectError, closest_points};
 use crate::register::{RegisterError, RegisterOptions, Target, register};
 use crate::topology::subgrid::{Fidelity, SubgridCounts, SubgridError, match_and_improve};
 use crate::topology::{Field, TopologyError, TopologyOptions, constrain_topology};
+use anchor::localized;
 use churn::Marks;
+use glam::Vec3;
 use rustc_hash::FxHashSet;
 use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
 use std::ops::Range;
 use std::time::{Duration, Instant};
 use thiserror::Error;
@@ -201,10 +207,13 @@ pub struct FrameLog {
 
 /// The state carried from frame to frame.
 pub struct Tracker {
+    /// The tracked mesh, relative to `anchor`.
     mesh: Mesh,
     options: TrackOptions,
     params: ImproveParams,
     grid: GridFrame,
+    /// The world position of the tracker's origin (see [`anchor`]).
+    anchor: Vec3,
 }
 
 fn ms(d: Duration) -> f64 {
@@ -220,42 +229,46 @@ impl Tracker {
         options: &TrackOptions,
     ) -> Result<(Self, EventList, FrameLog), TrackError> {
         let start = Instant::now();
-        let mut fresh = first.clone();
+        let anchor = anchor_of(first);
+        let mut fresh = localized(first, anchor);
         fresh.ids = None;
         fresh.attributes.clear();
         let mesh = Mesh::from_indexed(&fresh).map_err(|e| TrackError::at(0, e))?;
         let edge_length = options
             .edge_length
-            .unwrap_or_else(|| first.mean_edge_length());
-        let mut tracker = Self::with_mesh(mesh, edge_length, options)?;
+            .unwrap_or_else(|| fresh.mean_edge_length());
+        let mut tracker = Self::with_mesh(mesh, edge_length, anchor, options)?;
         let t = Instant::now();
         improve(&mut tracker.mesh, &tracker.params).map_err(|e| TrackError::at(0, e))?;
         let improve_time = t.elapsed();
         let events = EventList::drain(&mut tracker.mesh);
         tracker.mesh.compact();
+        tracker.settle();
         let mut times = StageTimes {
             improve: ms(improve_time),
             ..StageTimes::default()
         };
-        let bvh = Bvh::build(first).map_err(|e| TrackError::at(0, e))?;
+        let bvh = Bvh::build(&fresh).map_err(|e| TrackError::at(0, e))?;
         let (mean, max) = tracker.residual(backend, &bvh, 0, &mut times)?;
         times.total = ms(start.elapsed());
         let log = tracker.log(0, &events, (mean, max), true, false, times);
         Ok((tracker, events, log))
     }
 
-    /// A tracker continuing from written frame `frame`: `mesh` with its persistent ids, `next_id`
-    /// and the run's target edge length as recorded in `track.json`. An error names `frame`.
+    /// A tracker continuing from written frame `frame`: `mesh` (world coordinates) with its
+    /// persistent ids, `next_id`, the run's target edge length and anchor as recorded in
+    /// `track.json`. An error names `frame`.
     pub fn resume(
         frame: usize,
         mesh: &IndexedMesh,
         next_id: u64,
-        edge_length: f32,
+        (edge_length, anchor): (f32, Vec3),
         options: &TrackOptions,
     ) -> Result<Self, TrackError> {
-        let mut mesh = Mesh::from_indexed(mesh).map_err(|e| TrackError::at(frame, e))?;
+        let local = localized(mesh, anchor);
+        let mut mesh = Mesh::from_indexed(&local).map_err(|e| TrackError::at(frame, e))?;
         mesh.reserve_ids_below(next_id);
-        Self::with_mesh(mesh, edge_length, options)
+        Self::with_mesh(mesh, edge_length, anchor, options)
     }
 
     /// The tracker over `mesh`, whose journal records from here on: every stage changes the mesh
@@ -263,6 +276,7 @@ impl Tracker {
     fn with_mesh(
         mut mesh: Mesh,
         edge_length: f32,
+        anchor: Vec3,
         options: &TrackOptions,
     ) -> Result<Self, TrackError> {
         mesh.record_mutations();
@@ -280,11 +294,42 @@ impl Tracker {
             options: options.clone(),
             params,
             grid,
+            anchor,
         })
     }
 
+    /// The tracked mesh, relative to [`Tracker::anchor`].
     pub fn mesh(&self) -> &Mesh {
         &self.mesh
+    }
+
+    /// The tracked mesh in world coordinates, as its frame is written.
+    pub fn world_mesh(&self) -> IndexedMesh {
+        let mut world = self.mesh.to_indexed();
+        if self.anchor != Vec3::ZERO {
+            for p in &mut world.positions {
+                *p += self.anchor;
+            }
+        }
+        world
+    }
+
+    /// The world position of the tracker's origin (see [`anchor_of`]).
+    pub fn anchor(&self) -> Vec3 {
+        self.anchor
+    }
+
+    /// Rounds every position to what the written frame holds, so the state a frame ends in is
+    /// the state a resume from its file starts from.
+    fn settle(&mut self) {
+        if self.anchor == Vec3::ZERO {
+            return;
+        }
+        let vertices: Vec<_> = self.mesh.vertices().collect();
+        for v in vertices {
+            let p = self.mesh.position(v);
+            self.mesh.set_position(v, (p + self.anchor) - self.anchor);
+        }
     }
 
     /// The target edge length `L` every relative parameter is measured in.
@@ -300,6 +345,12 @@ impl Tracker {
         target: &IndexedMesh,
     ) -> Result<(EventList, FrameLog), TrackError> {
         let start = Instant::now();
+        let target: Cow<IndexedMesh> = if self.anchor == Vec3::ZERO {
+            Cow::Borrowed(target)
+        } else {
+            Cow::Owned(localized(target, self.anchor))
+        };
+        let target = target.as_ref();
         let mut times = StageTimes::default();
         let before: FxHashSet<u64> = self.mesh.vertices().map(|v| self.mesh.id(v)).collect();
         let mut marks = Marks::default();
@@ -355,6 +406,7 @@ impl Tracker {
         churn.subgrid.continued = began(&matched.continued);
         let events = EventList::drain(&mut self.mesh);
         self.mesh.compact();
+        self.settle();
         let residual = self.residual(backend, &bvh, frame, &mut times)?;
         times.total = ms(start.elapsed());
         let mut log = self.log(
