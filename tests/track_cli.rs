@@ -6,7 +6,7 @@ mod track_support;
 use std::process::Stdio;
 use std::time::{Duration, Instant};
 use surftrack::io::{ReadOptions, read_frame, read_frame_with, write_ply};
-use track_support::{completed, files, synth, track};
+use track_support::{assert_same_files, completed, files, roll_back, synth, track};
 
 #[test]
 fn a_killed_run_resumes_to_identical_bytes() {
@@ -39,12 +39,7 @@ fn a_killed_run_resumes_to_identical_bytes() {
         "{}",
         String::from_utf8_lossy(&resumed.stderr)
     );
-    let (a, b) = (files(&whole), files(&killed));
-    assert_eq!(a.len(), b.len());
-    for ((na, da), (nb, db)) in a.iter().zip(&b) {
-        assert_eq!(na, nb);
-        assert!(da == db, "{na} differs after resume");
-    }
+    assert_same_files(&whole, &killed);
 }
 
 /// Far from the world's origin the tracker works relative to an anchor and writes world
@@ -78,31 +73,15 @@ fn a_run_far_from_the_origin_resumes_to_identical_bytes() {
     // The same run rolled back to three complete frames, as if it had been killed.
     let stopped = tmp.path().join("stopped");
     assert!(track(&input, &stopped, &[]).status().unwrap().success());
-    let state_path = stopped.join("track.json");
-    let mut state: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&state_path).unwrap()).unwrap();
-    state["completed"] = 3.into();
-    state["frames"].as_array_mut().unwrap().truncate(3);
-    state["written"].as_array_mut().unwrap().truncate(3);
-    state["next_id"] = state["written"][2]["next_id"].clone();
-    std::fs::write(&state_path, state.to_string()).unwrap();
-    for k in 3..6 {
-        std::fs::remove_file(stopped.join(format!("frames/frame_{k:04}.ply"))).unwrap();
-        std::fs::remove_file(stopped.join(format!("events/{k:04}.events"))).unwrap();
-    }
+    roll_back(&stopped, 3);
     let resumed = track(&input, &stopped, &["--resume"]).output().unwrap();
     assert!(
         resumed.status.success(),
         "{}",
         String::from_utf8_lossy(&resumed.stderr)
     );
-    let (a, b) = (files(&whole), files(&stopped));
-    assert_eq!(a.len(), 12);
-    assert_eq!(a.len(), b.len());
-    for ((na, da), (nb, db)) in a.iter().zip(&b) {
-        assert_eq!(na, nb);
-        assert!(da == db, "{na} differs after resume");
-    }
+    assert_eq!(files(&whole).len(), 12);
+    assert_same_files(&whole, &stopped);
 }
 
 #[test]
@@ -174,15 +153,10 @@ fn resume_reads_the_last_frame_without_welding() {
 
     // Roll the run back to two complete frames, as if it had been killed, and move a vertex of
     // the last one onto the nearest vertex it shares no triangle with.
+    roll_back(&out, 2);
     let state_path = out.join("track.json");
     let mut state: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&state_path).unwrap()).unwrap();
-    state["completed"] = 2.into();
-    state["frames"].as_array_mut().unwrap().truncate(2);
-    state["written"].as_array_mut().unwrap().truncate(2);
-    state["next_id"] = state["written"][1]["next_id"].clone();
-    std::fs::remove_file(out.join("frames/frame_0002.ply")).unwrap();
-    std::fs::remove_file(out.join("events/0002.events")).unwrap();
     let last = out.join("frames/frame_0001.ply");
     let exact = ReadOptions {
         repair: false,

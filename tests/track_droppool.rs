@@ -35,6 +35,26 @@ fn frame_paths() -> Vec<std::path::PathBuf> {
         .collect()
 }
 
+/// The first `COUNT` frames, read.
+fn inputs() -> Vec<IndexedMesh> {
+    frame_paths()
+        .iter()
+        .map(|p| read_frame(p).unwrap().mesh)
+        .collect()
+}
+
+/// `meshes` with every position mapped by `f`.
+fn moved(meshes: &[IndexedMesh], f: impl Fn(glam::Vec3) -> glam::Vec3) -> Vec<IndexedMesh> {
+    meshes
+        .iter()
+        .map(|m| {
+            let mut m = m.clone();
+            m.positions.iter_mut().for_each(|p| *p = f(*p));
+            m
+        })
+        .collect()
+}
+
 /// Every tracked frame with its events and carried-over share, tracked on `backend`.
 fn track(
     paths: &[std::path::PathBuf],
@@ -122,21 +142,11 @@ fn the_gpu_path_tracks_the_drop_pool_as_the_cpu_path_does() {
 /// ones scaled, bit for bit, with the same ids, triangles and events, through a merge.
 #[test]
 fn scaling_the_input_by_a_power_of_two_scales_the_tracked_frames_exactly() {
-    let inputs: Vec<IndexedMesh> = frame_paths()
-        .iter()
-        .map(|p| read_frame(p).unwrap().mesh)
-        .collect();
+    let inputs = inputs();
     let reference = track_from(FrameSource::Meshes(&inputs), &Backend::Cpu);
     assert_eq!(reference.len(), COUNT);
     for scale in [4.0f32, 0.125] {
-        let scaled: Vec<IndexedMesh> = inputs
-            .iter()
-            .map(|m| {
-                let mut m = m.clone();
-                m.positions.iter_mut().for_each(|p| *p *= scale);
-                m
-            })
-            .collect();
+        let scaled = moved(&inputs, |p| p * scale);
         let tracked = track_from(FrameSource::Meshes(&scaled), &Backend::Cpu);
         assert_eq!(tracked.len(), COUNT);
         for (k, (r, t)) in reference.iter().zip(&tracked).enumerate() {
@@ -159,19 +169,8 @@ fn scaling_the_input_by_a_power_of_two_scales_the_tracked_frames_exactly() {
 /// re-sampled everything: 0%).
 #[test]
 fn far_from_the_origin_the_drop_pool_tracks_as_near_it() {
-    let inputs: Vec<IndexedMesh> = frame_paths()
-        .iter()
-        .map(|p| read_frame(p).unwrap().mesh)
-        .collect();
-    let shift = glam::Vec3::splat(4096.0);
-    let shifted: Vec<IndexedMesh> = inputs
-        .iter()
-        .map(|m| {
-            let mut m = m.clone();
-            m.positions.iter_mut().for_each(|p| *p += shift);
-            m
-        })
-        .collect();
+    let inputs = inputs();
+    let shifted = moved(&inputs, |p| p + glam::Vec3::splat(4096.0));
     let near = track_from(FrameSource::Meshes(&inputs), &Backend::Cpu);
     let far = track_from(FrameSource::Meshes(&shifted), &Backend::Cpu);
     assert_eq!(far.len(), COUNT);

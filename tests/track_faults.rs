@@ -15,7 +15,7 @@ use surftrack::sequence::{
     FrameFormat, FrameSource, Layout, Output as RunOutput, SequenceError, Start, track_sequence,
 };
 use surftrack::track::TrackOptions;
-use track_support::{completed, files, synth, track};
+use track_support::{assert_same_files, completed, files, synth, track};
 
 fn run(command: &mut Command) -> Output {
     command.output().unwrap()
@@ -23,15 +23,6 @@ fn run(command: &mut Command) -> Output {
 
 fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
-}
-
-fn assert_same(whole: &Path, other: &Path) {
-    let (a, b) = (files(whole), files(other));
-    let names = |f: &[(String, Vec<u8>)]| f.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
-    assert_eq!(names(&a), names(&b));
-    for ((name, x), (_, y)) in a.iter().zip(&b) {
-        assert!(x == y, "{name} differs");
-    }
 }
 
 /// The uninterrupted run every faulty one is compared with, and its duration.
@@ -82,7 +73,7 @@ fn sigkill_at_twenty_seeded_moments_resumes_to_identical_bytes() {
     };
     let last = run(&mut track(&input, &out, extra));
     assert!(last.status.success(), "{}", stderr(&last));
-    assert_same(&whole, &out);
+    assert_same_files(&whole, &out);
 }
 
 #[test]
@@ -105,7 +96,7 @@ fn a_frame_or_event_file_cut_short_is_found_and_resume_steps_back_to_it() {
             "{warning}"
         );
         assert_eq!(completed(&out), 6);
-        assert_same(&whole, &out);
+        assert_same_files(&whole, &out);
     }
 }
 
@@ -176,7 +167,7 @@ fn a_full_disk_stops_the_run_cleanly_and_resume_finishes_it() {
         assert!(grown.success());
         let resumed = run(&mut track(&input, &out, &["--resume"]));
         assert!(resumed.status.success(), "{}", stderr(&resumed));
-        assert_same(&whole, &out);
+        assert_same_files(&whole, &out);
     });
 }
 
@@ -282,6 +273,6 @@ fn an_input_frame_that_vanishes_or_changes_after_discovery_stops_the_run_at_it()
         assert_eq!(completed(&out), 3, "{case}");
         std::fs::write(&paths[3], &original).unwrap();
         go(&out, Start::Resume).unwrap();
-        assert_same(&whole, &out);
+        assert_same_files(&whole, &out);
     }
 }

@@ -1,5 +1,7 @@
 //! What the `track_*` end-to-end tests share: the binary, a synthetic input, a `track` command with
-//! the CPU backend, and the written run's progress and files.
+//! the CPU backend, and the written run's progress and files. Each test crate uses some of them.
+
+#![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -52,4 +54,32 @@ pub fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
         }
     }
     out
+}
+
+/// Asserts that two runs wrote the same files under `frames/` and `events/`, byte for byte.
+pub fn assert_same_files(whole: &Path, other: &Path) {
+    let (a, b) = (files(whole), files(other));
+    let names = |f: &[(String, Vec<u8>)]| f.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
+    assert_eq!(names(&a), names(&b));
+    for ((name, x), (_, y)) in a.iter().zip(&b) {
+        assert!(x == y, "{name} differs");
+    }
+}
+
+/// Rolls the run in `out` back to its first `k` complete frames, as if it had been killed then:
+/// `track.json` says so and the later frames' files are gone.
+pub fn roll_back(out: &Path, k: usize) {
+    let state_path = out.join("track.json");
+    let mut state: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&state_path).unwrap()).unwrap();
+    let frames = state["completed"].as_u64().unwrap() as usize;
+    state["completed"] = k.into();
+    state["frames"].as_array_mut().unwrap().truncate(k);
+    state["written"].as_array_mut().unwrap().truncate(k);
+    state["next_id"] = state["written"][k - 1]["next_id"].clone();
+    std::fs::write(&state_path, state.to_string()).unwrap();
+    for j in k..frames {
+        std::fs::remove_file(out.join(format!("frames/frame_{j:04}.ply"))).unwrap();
+        std::fs::remove_file(out.join(format!("events/{j:04}.events"))).unwrap();
+    }
 }
