@@ -194,3 +194,26 @@ fn far_from_the_origin_the_drop_pool_tracks_as_near_it() {
         );
     }
 }
+
+/// A cache whose triangles all face inward (a mesher with the opposite convention, a scene
+/// mirrored on one axis) tracks as its outward twin, bit for bit: tracked as it was, its Φ(M) read
+/// the mesh as its own complement and every frame was re-sampled whole (0% carried).
+#[test]
+fn a_cache_facing_inward_tracks_as_its_outward_twin() {
+    let inputs = inputs();
+    let inward: Vec<IndexedMesh> = inputs
+        .iter()
+        .map(|m| {
+            let mut m = m.clone();
+            m.triangles.iter_mut().for_each(|t| t.swap(1, 2));
+            m
+        })
+        .collect();
+    let reference = track_from(FrameSource::Meshes(&inputs), &Backend::Cpu);
+    let turned = track_from(FrameSource::Meshes(&inward), &Backend::Cpu);
+    assert_eq!(turned.len(), COUNT);
+    for (k, (r, t)) in reference.iter().zip(&turned).enumerate() {
+        assert!(t.0 == r.0, "frame {k}: the tracked meshes differ");
+        assert!(t.1 == r.1, "frame {k}: the events differ");
+    }
+}

@@ -3,6 +3,7 @@
 //! is written (mesh, then events, then `track.json`, each atomically) before the next begins, so a
 //! run killed at any moment resumes from its last complete frame with the same bytes.
 
+use super::orientation::{outward, turned_warning};
 use super::resume::written;
 use super::state::{STATE_VERSION, Written};
 use super::{FrameFormat, Layout, RunState, SequenceError, Summary, resume_point};
@@ -78,7 +79,7 @@ pub enum Progress<'a> {
     /// Frame `k` is being tracked; `done` frames are complete.
     Tracking { k: usize, done: usize },
     /// A frame that is not a closed 2-manifold is used as a target anyway (only its voxelization
-    /// and projection are used).
+    /// and projection are used), or one facing inward is tracked turned.
     Warning(String),
     /// Frame `log.frame` is complete; with an output folder its files are written while the next
     /// frame tracks (a resume finds them through `track.json`).
@@ -115,6 +116,8 @@ where
     if source.is_empty() {
         return Err(SequenceError::Empty);
     }
+    // An inward-facing frame is reported once: a cache made so is usually made so throughout.
+    let mut warned = false;
     let input: Vec<PathBuf> = match source {
         FrameSource::Files(paths) => paths.to_vec(),
         FrameSource::Meshes(_) => Vec::new(),
@@ -144,7 +147,11 @@ where
             {
                 prepare_output_dir(layout.root(), *force)?;
             }
-            let first = source.get(0)?;
+            let (first, turned) = outward(source.get(0)?);
+            if turned {
+                progress(Progress::Warning(turned_warning(&source.name(0))));
+                warned = true;
+            }
             first
                 .validate()
                 .map_err(|source_error| SequenceError::InvalidFirst {
@@ -181,7 +188,14 @@ where
     let mut pending: Option<FrameWrite<P>> = None;
     for k in state.completed..source.len() {
         let target = match next.take().expect("the frame was read ahead") {
-            Ok(target) => target,
+            Ok(target) => {
+                let (target, turned) = outward(target);
+                if turned && !warned {
+                    progress(Progress::Warning(turned_warning(&source.name(k))));
+                    warned = true;
+                }
+                target
+            }
             Err(error) => {
                 // The frames tracked before an unreadable one are written all the same.
                 if let Some(write) = pending.take() {

@@ -4,6 +4,7 @@
 
 mod driver;
 mod layout;
+mod orientation;
 mod resume;
 mod state;
 mod summary;
