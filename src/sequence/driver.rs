@@ -3,7 +3,7 @@
 //! is written (mesh, then events, then `track.json`, each atomically) before the next begins, so a
 //! run killed at any moment resumes from its last complete frame with the same bytes.
 
-use super::orientation::{outward, turned_warning};
+use super::orientation::{Turned, outward};
 use super::resume::written;
 use super::state::{STATE_VERSION, Written};
 use super::{FrameFormat, Layout, RunState, SequenceError, Summary, resume_point};
@@ -40,11 +40,13 @@ impl FrameSource<'_> {
         self.len() == 0
     }
 
-    fn get(&self, k: usize) -> Result<Cow<'_, IndexedMesh>, SequenceError> {
-        match self {
-            FrameSource::Files(paths) => Ok(Cow::Owned(read_frame(&paths[k])?.mesh)),
-            FrameSource::Meshes(meshes) => Ok(Cow::Borrowed(&meshes[k])),
-        }
+    /// Frame `k`, made to face outward (see `orientation`), with what was turned.
+    fn get(&self, k: usize) -> Result<(Cow<'_, IndexedMesh>, Turned), SequenceError> {
+        let frame = match self {
+            FrameSource::Files(paths) => Cow::Owned(read_frame(&paths[k])?.mesh),
+            FrameSource::Meshes(meshes) => Cow::Borrowed(&meshes[k]),
+        };
+        Ok(outward(frame))
     }
 
     fn name(&self, k: usize) -> String {
@@ -147,9 +149,9 @@ where
             {
                 prepare_output_dir(layout.root(), *force)?;
             }
-            let (first, turned) = outward(source.get(0)?);
-            if turned {
-                progress(Progress::Warning(turned_warning(&source.name(0))));
+            let (first, turned) = source.get(0)?;
+            if turned.any() {
+                progress(Progress::Warning(turned.warning(&source.name(0))));
                 warned = true;
             }
             first
@@ -188,10 +190,9 @@ where
     let mut pending: Option<FrameWrite<P>> = None;
     for k in state.completed..source.len() {
         let target = match next.take().expect("the frame was read ahead") {
-            Ok(target) => {
-                let (target, turned) = outward(target);
-                if turned && !warned {
-                    progress(Progress::Warning(turned_warning(&source.name(k))));
+            Ok((target, turned)) => {
+                if turned.any() && !warned {
+                    progress(Progress::Warning(turned.warning(&source.name(k))));
                     warned = true;
                 }
                 target
