@@ -6,6 +6,7 @@
 use super::ExportError;
 use super::primvar::{Primvar, primvar_of};
 use crate::apps::VelocityFrame;
+use crate::geometry::bounds;
 use crate::mesh::Attribute;
 use glam::Vec3;
 use std::path::Path;
@@ -260,15 +261,4 @@ fn primvar_values(primvar: &Primvar, attribute: &Attribute) -> Vec<f32> {
 
 fn scalars(points: &[Vec3]) -> Vec<f32> {
     points.iter().flat_map(|p| p.to_array()).collect()
-}
-
-/// Lowest and highest corner of the points' box (both 0 for no points).
-fn bounds(points: &[Vec3]) -> (Vec3, Vec3) {
-    if points.is_empty() {
-        return (Vec3::ZERO, Vec3::ZERO);
-    }
-    points.iter().fold(
-        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(low, high), &p| (low.min(p), high.max(p)),
-    )
 }

@@ -12,6 +12,7 @@
 
 use glam::Vec3;
 
+use crate::geometry::bounds;
 use crate::mesh::IndexedMesh;
 
 /// The anchor of a run whose first frame is `first`: per axis, the centre of its bounding box
@@ -20,12 +21,7 @@ use crate::mesh::IndexedMesh;
 /// multiple of the power shifts the anchor by the same amount. Powers of two keep the subtraction
 /// exact for every coordinate within a factor of two of the anchor.
 pub fn anchor_of(first: &IndexedMesh) -> Vec3 {
-    let (lo, hi) = first
-        .positions
-        .iter()
-        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| {
-            (lo.min(p), hi.max(p))
-        });
+    let (lo, hi) = bounds(&first.positions);
     let diagonal = (hi - lo).length();
     if !(diagonal.is_finite() && diagonal > 0.0) {
         return Vec3::ZERO;
