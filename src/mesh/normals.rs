@@ -62,10 +62,15 @@ impl IndexedMesh {
 
     /// Signed enclosed volume (divergence theorem); positive for an outward-oriented closed surface.
     pub fn signed_volume(&self) -> f64 {
-        self.triangles
-            .iter()
-            .map(|tri| {
-                let p = tri.map(|v| self.positions[v as usize].as_dvec3());
+        self.signed_volume_of(0..self.triangles.len() as u32)
+    }
+
+    /// [`IndexedMesh::signed_volume`] of the triangles `triangles` alone, summed in their order.
+    pub fn signed_volume_of(&self, triangles: impl IntoIterator<Item = u32>) -> f64 {
+        triangles
+            .into_iter()
+            .map(|t| {
+                let p = self.triangles[t as usize].map(|v| self.positions[v as usize].as_dvec3());
                 p[0].dot(p[1].cross(p[2])) / 6.0
             })
             .sum()

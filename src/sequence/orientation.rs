@@ -17,7 +17,6 @@ use std::borrow::Cow;
 
 use glam::DVec3;
 
-use crate::geometry::Components;
 use crate::mesh::IndexedMesh;
 
 /// What [`outward`] turned.
@@ -79,30 +78,16 @@ pub(super) fn outward(frame: Cow<'_, IndexedMesh>) -> (Cow<'_, IndexedMesh>, Tur
 /// The triangles of each component of `mesh` that encloses a negative volume at an even nesting
 /// depth.
 fn inward_outside(mesh: &IndexedMesh) -> Vec<Vec<u32>> {
-    let mut components = Components::new(mesh.positions.len(), &mesh.triangles);
-    let mut index: Vec<u32> = vec![u32::MAX; mesh.positions.len()];
-    let mut parts: Vec<Vec<u32>> = Vec::new();
+    let (labels, count) = mesh.component_labels();
+    let mut parts: Vec<Vec<u32>> = vec![Vec::new(); count];
     for (t, tri) in mesh.triangles.iter().enumerate() {
-        let root = components.find(tri[0]) as usize;
-        if index[root] == u32::MAX {
-            index[root] = parts.len() as u32;
-            parts.push(Vec::new());
-        }
-        parts[index[root] as usize].push(t as u32);
+        parts[labels[tri[0] as usize] as usize].push(t as u32);
     }
     if parts.len() < 2 {
         return Vec::new();
     }
     let corners =
         |t: u32| mesh.triangles[t as usize].map(|v| mesh.positions[v as usize].as_dvec3());
-    let volume = |part: &[u32]| -> f64 {
-        part.iter()
-            .map(|&t| {
-                let [a, b, c] = corners(t);
-                a.dot(b.cross(c)) / 6.0
-            })
-            .sum()
-    };
     let bounds = |part: &[u32]| {
         part.iter()
             .flat_map(|&t| corners(t))
@@ -125,7 +110,7 @@ fn inward_outside(mesh: &IndexedMesh) -> Vec<Vec<u32>> {
     parts
         .iter()
         .enumerate()
-        .filter(|(_, part)| volume(part) < 0.0)
+        .filter(|(_, part)| mesh.signed_volume_of(part.iter().copied()) < 0.0)
         .filter(|&(c, part)| {
             let p = mesh.positions[mesh.triangles[part[0] as usize][0] as usize].as_dvec3();
             let depth = (0..parts.len())
