@@ -27,7 +27,6 @@ fn every_broken_input_fails_cleanly_with_its_own_message() {
         ("not_a_number.obj", "number"),
         ("open.obj", "open boundary"),
         ("nonmanifold_edge.obj", "non-manifold edge"),
-        ("bowtie.obj", "non-manifold vertex"),
         ("flipped.obj", "inconsistent orientation"),
         ("index_out_of_range.obj", "out of range"),
         ("garbage.ply", "ply"),

@@ -1,5 +1,6 @@
 //! Repairs on reading: welding relative to the mean edge length, dropping exactly-degenerate
-//! faces, removing unreferenced vertices, and leaving clean meshes alone.
+//! faces, splitting parts that touch at a vertex or an edge, removing unreferenced vertices, and
+//! leaving clean meshes alone.
 
 use glam::Vec3;
 use std::f32::consts::TAU;
@@ -169,4 +170,45 @@ fn polygons_with_fewer_than_three_corners_count_as_degenerate() {
     let frame = read_frame(&path).unwrap();
     assert_eq!(frame.repairs.degenerate_faces, 2);
     assert_eq!(frame.mesh.triangles, [[0, 1, 2]]);
+}
+
+/// The parts of `tests/data/touching/NAME`, read: each touching part becomes a component of its own,
+/// every point stays where the file put it, and the mesh is a closed 2-manifold.
+fn touching(name: &str) -> (IndexedMesh, surftrack::io::RepairReport) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/touching")
+        .join(name);
+    let raw = read_frame_with(
+        &path,
+        &ReadOptions {
+            repair: false,
+            ..ReadOptions::default()
+        },
+    )
+    .unwrap();
+    let frame = read_frame(&path).unwrap();
+    frame.mesh.validate().unwrap();
+    assert_eq!(frame.mesh.triangles.len(), raw.mesh.triangles.len());
+    for (read, file) in frame.mesh.triangles.iter().zip(&raw.mesh.triangles) {
+        for k in 0..3 {
+            assert_eq!(
+                frame.mesh.positions[read[k] as usize],
+                raw.mesh.positions[file[k] as usize]
+            );
+        }
+    }
+    (frame.mesh, frame.repairs)
+}
+
+#[test]
+fn parts_touching_at_a_vertex_or_an_edge_are_split_apart_in_place() {
+    let (mesh, repairs) = touching("tetrahedra_at_a_vertex.obj");
+    assert_eq!((repairs.split_vertices, repairs.split_edges), (1, 0));
+    assert_eq!(mesh.positions.len(), 8);
+    assert_eq!(mesh.topology().components.len(), 2);
+
+    let (mesh, repairs) = touching("tetrahedra_on_an_edge.obj");
+    assert_eq!((repairs.split_vertices, repairs.split_edges), (2, 1));
+    assert_eq!(mesh.positions.len(), 8);
+    assert_eq!(mesh.topology().components.len(), 2);
 }

@@ -5,8 +5,9 @@ with splashsurf. See README.md; `generate.sh OUT` runs both steps.
 
   python generate.py sim OUT    # OUT/particles/particles_NNNN.npy and OUT/scene.json
   python generate.py mesh OUT   # OUT/frames/fluid_mesh_NNNN.obj
+  python generate.py nets OUT   # OUT/nets/fluid_NNNN.bobj.gz, surface nets (FRAMES=a:b for some)
 """
-import json, os, sys, time
+import gzip, json, os, struct, sys, time
 import numpy as np
 
 OUT = os.path.abspath(sys.argv[2]) if len(sys.argv) > 2 else sys.exit(__doc__)
@@ -159,5 +160,94 @@ def write_obj(path, v, t):
         fh.write("".join("f %d %d %d\n" % (a + 1, b + 1, c + 1) for a, b, c in t))
 
 
+def nets():
+    """The same particles surfaced by surface nets instead of marching cubes: one vertex per grid
+    cell the iso-surface crosses (the mean of its edge crossings), one quad per crossed grid edge,
+    split along its shorter diagonal. Like OpenVDB's volume-to-mesh, a dual mesher joins the sheets
+    that pass through one cell at one vertex, so a splash's touching parts come out non-manifold.
+    The field is splashsurf's: the cubic-spline SPH density at smoothing length 2 R over the density
+    of the particle lattice, iso-surface at ISO, on cells of CUBE_SIZE x R."""
+    outdir = os.path.join(OUT, "nets")
+    os.makedirs(outdir, exist_ok=True)
+    first, last = (int(x) for x in os.environ.get("FRAMES", "0:%d" % NFRAMES).split(":"))
+    for f in range(first, last):
+        pos = np.load(os.path.join(OUT, "particles", "particles_%04d.npy" % f)).astype(np.float64)
+        verts, tris = surface_nets(pos, CUBE_SIZE * R)
+        write_bobj(os.path.join(outdir, "fluid_%04d.bobj.gz" % f), verts, tris)
+        print("frame %d: %d particles -> %d verts %d tris" % (f, len(pos), len(verts), len(tris)),
+              flush=True)
+
+
+def cubic_spline(q):
+    """The cubic spline kernel's shape at q = r / h (support 2 h), 1 at q = 0."""
+    return np.where(q < 1, 1 - 1.5 * q**2 + 0.75 * q**3, np.where(q < 2, 0.25 * (2 - q)**3, 0.0))
+
+
+def surface_nets(pos, cell):
+    h = SMOOTHING_LENGTH * R
+    lo = np.floor((pos.min(0) - 3 * h) / cell) * cell
+    n = (np.ceil((pos.max(0) + 3 * h - lo) / cell)).astype(int) + 1
+    rho = np.zeros(n)
+    base = np.floor((pos - lo) / cell).astype(int)
+    reach = int(np.ceil(2 * h / cell))
+    for d in np.ndindex(*(2 * reach + 2,) * 3):
+        idx = base + np.array(d) - reach
+        w = cubic_spline(np.linalg.norm(lo + idx * cell - pos, axis=1) / h)
+        m = w > 0
+        np.add.at(rho, tuple(idx[m].T), w[m])
+    lattice = np.array(list(np.ndindex(7, 7, 7))) - 3
+    full = cubic_spline(np.linalg.norm(lattice * 2 * R, axis=1) / h).sum()
+    phi = rho / full - ISO
+    inside = phi > 0
+    cells = n - 1
+    corners = [np.array(c) for c in np.ndindex(2, 2, 2)]
+    total, crossings = np.zeros(tuple(cells) + (3,)), np.zeros(tuple(cells))
+    at = lambda o: tuple(slice(o[k], o[k] + cells[k]) for k in range(3))
+    for u, v in [(u, v) for u in range(8) for v in range(u + 1, 8)
+                 if np.abs(corners[u] - corners[v]).sum() == 1]:
+        a, b = phi[at(corners[u])], phi[at(corners[v])]
+        cross = (a > 0) != (b > 0)
+        t = np.where(cross, a / np.where(cross, a - b, 1.0), 0.0)
+        point = corners[u] + t[..., None] * (corners[v] - corners[u])
+        total += np.where(cross[..., None], point, 0.0)
+        crossings += cross
+    active = crossings > 0
+    index = -np.ones(tuple(cells), int)
+    index[active] = np.arange(active.sum())
+    verts = lo + (np.argwhere(active) + total[active] / crossings[active][:, None]) * cell
+    tris = []
+    for axis in range(3):
+        step = np.eye(3, dtype=int)[axis]
+        a = inside[tuple(slice(0, n[k] - step[k]) for k in range(3))]
+        b = inside[tuple(slice(step[k], n[k]) for k in range(3))]
+        edges = np.argwhere(a != b)
+        u, w = [k for k in range(3) if k != axis]
+        edges = edges[(edges[:, u] >= 1) & (edges[:, w] >= 1)
+                      & (edges[:, u] < cells[u]) & (edges[:, w] < cells[w])]
+        def around(du, dw):
+            c = edges.copy()
+            c[:, u] -= du
+            c[:, w] -= dw
+            return index[tuple(c.T)]
+        quad = np.stack([around(1, 1), around(0, 1), around(0, 0), around(1, 0)], 1)
+        # Facing outward: from the inside corner to the outside one, counter-clockwise seen from
+        # outside (the (u, w) order is cyclic except for the y axis).
+        outward = ~a[tuple(edges.T)] if axis != 1 else a[tuple(edges.T)]
+        quad[outward] = quad[outward][:, ::-1]
+        short = (np.linalg.norm(verts[quad[:, 0]] - verts[quad[:, 2]], axis=1)
+                 <= np.linalg.norm(verts[quad[:, 1]] - verts[quad[:, 3]], axis=1))
+        tris.append(np.where(short[:, None], quad[:, [0, 1, 2]], quad[:, [0, 1, 3]]))
+        tris.append(np.where(short[:, None], quad[:, [0, 2, 3]], quad[:, [1, 2, 3]]))
+    return verts, np.concatenate(tris)
+
+
+def write_bobj(path, v, t):
+    """Blender's fluid cache: vertex count and positions, no normals, triangle count and corners."""
+    body = (struct.pack("<i", len(v)) + np.asarray(v, "<f4").tobytes() + struct.pack("<i", 0)
+            + struct.pack("<i", len(t)) + np.asarray(t, "<i4").tobytes())
+    with open(path, "wb") as fh:
+        fh.write(gzip.compress(body, mtime=0))
+
+
 if __name__ == "__main__":
-    {"sim": sim, "mesh": mesh}[sys.argv[1]]()
+    {"sim": sim, "mesh": mesh, "nets": nets}[sys.argv[1]]()

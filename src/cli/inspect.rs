@@ -32,6 +32,8 @@ struct FrameSummary {
     error: Option<MeshError>,
     welded_vertices: usize,
     dropped_faces: usize,
+    split_edges: usize,
+    split_vertices: usize,
     quality: QualityStats,
 }
 
@@ -107,6 +109,8 @@ fn summarize(file: &Path, frame: &Frame) -> FrameSummary {
         error,
         welded_vertices: frame.repairs.welded_vertices,
         dropped_faces: frame.repairs.degenerate_faces,
+        split_edges: frame.repairs.split_edges,
+        split_vertices: frame.repairs.split_vertices,
         quality: mesh.quality(),
     }
 }
@@ -134,13 +138,23 @@ fn print_table(summaries: &[FrameSummary]) {
             None => "closed manifold".to_string(),
             Some(d) => d.clone(),
         };
-        let repaired = if s.welded_vertices + s.dropped_faces > 0 {
-            format!(
-                " (repaired: {} welded, {} dropped)",
+        let mut repairs = Vec::new();
+        if s.welded_vertices + s.dropped_faces > 0 {
+            repairs.push(format!(
+                "{} welded, {} dropped",
                 s.welded_vertices, s.dropped_faces
-            )
-        } else {
+            ));
+        }
+        if s.split_vertices > 0 {
+            repairs.push(format!(
+                "touching parts split: {} edges, {} vertices",
+                s.split_edges, s.split_vertices
+            ));
+        }
+        let repaired = if repairs.is_empty() {
             String::new()
+        } else {
+            format!(" (repaired: {})", repairs.join("; "))
         };
         println!(
             "{:<28} {:>8} {:>8} {:>5} {:>6} {:>5} {:>9.4} {:>9.4} {:>9.4} {:>7.2}  {status}{repaired}",

@@ -6,7 +6,9 @@
 //! Blender/Mantaflow `.bobj.gz` fluid caches, chosen by extension. Polygons are fan-triangulated.
 //! Each frame is then repaired ([`RepairReport`]): vertices within 1e-6 × the mean edge length of
 //! an earlier vertex are welded into it, faces with a repeated corner or exactly zero area are
-//! dropped, and vertices no face uses are removed. A clean closed mesh passes unchanged.
+//! dropped, non-manifold edges and vertices (touching parts, as dual meshers write them) are split
+//! apart without moving a point, and vertices no face uses are removed. A clean closed mesh passes
+//! unchanged.
 //!
 //! Every count in a file is checked against the bytes that remain before anything is allocated
 //! for it, and every failure is an [`IoError`] naming the file, the line (text formats) or element
@@ -64,6 +66,7 @@ mod ply_values;
 mod ply_write;
 mod repair;
 mod sequence;
+mod split;
 mod weld;
 
 pub use atomic::{AtomicFile, atomic_write, prepare_output_dir, remove_stale_temporaries};

@@ -1,6 +1,8 @@
-//! The repairs every reader applies: weld duplicate vertices, drop exactly-degenerate faces, remove
-//! vertices no face uses. A valid closed mesh passes through unchanged (all counts zero).
+//! The repairs every reader applies: weld duplicate vertices, drop exactly-degenerate faces, split
+//! non-manifold edges and vertices (`split`), remove vertices no face uses. A valid closed mesh
+//! passes through unchanged (all counts zero).
 
+use super::split::split_non_manifold;
 use super::weld::weld_targets;
 use crate::mesh::IndexedMesh;
 use glam::DVec3;
@@ -16,6 +18,11 @@ pub struct RepairReport {
     pub degenerate_faces: usize,
     /// Vertices removed because no remaining face uses them.
     pub unreferenced_vertices: usize,
+    /// Edges of more than two triangles whose triangles were paired across the solid between
+    /// them.
+    pub split_edges: usize,
+    /// Copies added so that each fan of triangles around a vertex has a vertex of its own.
+    pub split_vertices: usize,
 }
 
 impl RepairReport {
@@ -25,11 +32,16 @@ impl RepairReport {
     }
 }
 
-/// Welds vertices within `relative_tolerance` × mean edge length, drops degenerate faces and
-/// removes unreferenced vertices, carrying ids and attributes of the kept vertices.
+/// Welds vertices within `relative_tolerance` × mean edge length, drops degenerate faces, splits
+/// non-manifold edges and vertices and removes unreferenced vertices, carrying ids and attributes
+/// of the kept vertices (a split vertex's copies take its attributes and new ids after the
+/// largest).
 ///
 /// Requires every triangle index to be in range (readers check that before calling).
-pub(crate) fn repair(mesh: IndexedMesh, relative_tolerance: f32) -> (IndexedMesh, RepairReport) {
+pub(crate) fn repair(
+    mut mesh: IndexedMesh,
+    relative_tolerance: f32,
+) -> (IndexedMesh, RepairReport) {
     let tolerance = relative_tolerance * corner_mean_edge_length(&mesh);
     let target = weld_targets(&mesh.positions, tolerance);
     let welded_vertices = target
@@ -46,39 +58,64 @@ pub(crate) fn repair(mesh: IndexedMesh, relative_tolerance: f32) -> (IndexedMesh
         }
     }
     let degenerate_faces = mesh.triangles.len() - triangles.len();
+    mesh.triangles = triangles;
+    let split = split_non_manifold(&mut mesh);
 
-    let mut referenced = vec![false; mesh.positions.len()];
-    for &v in triangles.iter().flatten() {
+    // Vertex `v` of the input, then the copies the split added, each standing for its source.
+    let vertices = mesh.positions.len();
+    let source = |v: usize| {
+        if v < vertices {
+            v
+        } else {
+            split.copies[v - vertices] as usize
+        }
+    };
+    let mut referenced = vec![false; vertices + split.copies.len()];
+    for &v in mesh.triangles.iter().flatten() {
         referenced[v as usize] = true;
     }
-    let kept = referenced.iter().filter(|&&r| r).count();
-    let unreferenced_vertices = mesh.positions.len() - welded_vertices - kept;
+    let kept = referenced[..vertices].iter().filter(|&&r| r).count();
+    let unreferenced_vertices = vertices - welded_vertices - kept;
     let report = RepairReport {
         welded_vertices,
         degenerate_faces,
         unreferenced_vertices,
+        split_edges: split.edges,
+        split_vertices: split.copies.len(),
     };
-    if kept == mesh.positions.len() && degenerate_faces == 0 {
+    if kept == vertices && degenerate_faces == 0 && split.copies.is_empty() {
         return (mesh, report);
     }
 
-    let mut new_index = vec![u32::MAX; mesh.positions.len()];
-    let mut order = Vec::with_capacity(kept);
+    let mut new_index = vec![u32::MAX; referenced.len()];
+    let mut order = Vec::with_capacity(kept + split.copies.len());
     for (v, _) in referenced.iter().enumerate().filter(|&(_, &r)| r) {
         new_index[v] = order.len() as u32;
         order.push(v);
     }
+    let mut triangles = std::mem::take(&mut mesh.triangles);
     for tri in &mut triangles {
         *tri = tri.map(|v| new_index[v as usize]);
     }
+    let sources: Vec<usize> = order.iter().map(|&v| source(v)).collect();
     let repaired = IndexedMesh {
-        positions: order.iter().map(|&v| mesh.positions[v]).collect(),
+        positions: sources.iter().map(|&v| mesh.positions[v]).collect(),
         triangles,
-        ids: mesh
-            .ids
-            .as_ref()
-            .map(|ids| order.iter().map(|&v| ids[v]).collect()),
-        attributes: mesh.attributes.iter().map(|a| a.gather(&order)).collect(),
+        ids: mesh.ids.as_ref().map(|ids| {
+            let mut fresh = ids.iter().max().map_or(0, |&id| id + 1);
+            order
+                .iter()
+                .map(|&v| {
+                    if v < vertices {
+                        ids[v]
+                    } else {
+                        fresh += 1;
+                        fresh - 1
+                    }
+                })
+                .collect()
+        }),
+        attributes: mesh.attributes.iter().map(|a| a.gather(&sources)).collect(),
     };
     (repaired, report)
 }
