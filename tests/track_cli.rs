@@ -6,7 +6,7 @@ mod track_support;
 use std::process::Stdio;
 use std::time::{Duration, Instant};
 use surftrack::io::{ReadOptions, read_frame, read_frame_with, write_ply};
-use track_support::{assert_same_files, completed, files, roll_back, synth, track};
+use track_support::{assert_same_files, completed, files, roll_back, surftrack, synth, track};
 
 #[test]
 fn a_killed_run_resumes_to_identical_bytes() {
@@ -101,6 +101,69 @@ fn resume_refuses_different_arguments_and_force_is_needed_to_overwrite() {
     // The error names the parameter that differs, with both values.
     let said = String::from_utf8_lossy(&changed.stderr);
     assert!(said.contains("min_angle: 10.0 then, 12.0 now"), "{said}");
+}
+
+/// A simulation with an inflow writes empty frames until its fluid appears, and one that drains
+/// writes them after it is gone. Those at the ends are left out with a warning: the run tracks
+/// from the first frame with a surface to the last, byte for byte as it tracks those frames alone,
+/// and `eval` against the whole folder lines its frames up the same way.
+#[test]
+fn empty_frames_at_either_end_are_left_out() {
+    let tmp = tempfile::tempdir().unwrap();
+    let source = tmp.path().join("synth");
+    synth("merge", &source, "32", "4");
+    let input = tmp.path().join("in");
+    std::fs::create_dir(&input).unwrap();
+    for k in 0..7 {
+        let path = input.join(format!("merge_{k:04}.ply"));
+        match k {
+            2..=5 => std::fs::copy(source.join(format!("merge_{:04}.ply", k - 2)), &path)
+                .map(|_| ())
+                .unwrap(),
+            _ => std::fs::write(&path, b"").unwrap(),
+        }
+    }
+    let (alone, padded) = (tmp.path().join("alone"), tmp.path().join("padded"));
+    assert!(track(&source, &alone, &[]).status().unwrap().success());
+    let run = track(&input, &padded, &[]).output().unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("input frames 0..=1 are empty (no fluid yet); tracking starts at frame 2"),
+        "{stderr}"
+    );
+    assert!(
+        stderr
+            .contains("input frames 6..=6 are empty (the fluid is gone); tracking ends at frame 5"),
+        "{stderr}"
+    );
+    assert_eq!(completed(&padded), 4);
+    assert_same_files(&alone, &padded);
+    let eval = surftrack()
+        .arg("eval")
+        .arg(&padded)
+        .arg("--input")
+        .arg(&input)
+        .output()
+        .unwrap();
+    assert!(
+        eval.status.success(),
+        "{}",
+        String::from_utf8_lossy(&eval.stderr)
+    );
+
+    let empty = tmp.path().join("empty");
+    std::fs::create_dir(&empty).unwrap();
+    for k in 0..2 {
+        std::fs::write(empty.join(format!("merge_{k:04}.ply")), b"").unwrap();
+    }
+    let run = track(&empty, &tmp.path().join("none"), &[])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("all 2 frames are empty"), "{stderr}");
+    assert!(!tmp.path().join("none").exists());
 }
 
 /// Issue 8 bar 1 on every synth scene (small resolution for CI): every tracked frame is a closed

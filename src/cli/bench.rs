@@ -119,7 +119,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let frames = args.frames.max(2);
     let mut runs = Vec::new();
     if let Some(input) = &args.input {
-        let sequence = discover_sequence(input)?;
+        let (sequence, _) = discover_sequence(input)?.without_empty_ends()?;
         let meshes: Vec<IndexedMesh> = sequence
             .frames
             .iter()

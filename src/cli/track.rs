@@ -280,19 +280,31 @@ pub fn run(args: &TrackArgs) -> Result<(), CliError> {
 }
 
 /// The frames of `input` (a folder, a pattern or one file) in numeric order, at most `limit`,
-/// and a warning for each gap in their numbers.
+/// without the empty frames at either end (an inflow's frames before the fluid appears), and a
+/// warning for each gap in their numbers and for the empty ends left out.
 pub(super) fn input_frames(
     input: &Path,
     limit: Option<usize>,
 ) -> Result<(Vec<PathBuf>, Vec<String>), CliError> {
-    let sequence = discover_sequence(input)?;
-    let warnings = sequence
+    let (sequence, empty) = discover_sequence(input)?.without_empty_ends()?;
+    let mut warnings: Vec<String> = sequence
         .gaps
         .iter()
         .map(|(from, to)| {
             format!("warning: input frames {from}..={to} are missing; tracking across the gap")
         })
         .collect();
+    if let (Some((from, to)), Some((first, path))) = (empty.leading, sequence.frames.first()) {
+        warnings.push(format!(
+            "warning: input frames {from}..={to} are empty (no fluid yet); tracking starts at frame {first} ({}), tracked frame 0",
+            path.display()
+        ));
+    }
+    if let (Some((from, to)), Some((last, _))) = (empty.trailing, sequence.frames.last()) {
+        warnings.push(format!(
+            "warning: input frames {from}..={to} are empty (the fluid is gone); tracking ends at frame {last}"
+        ));
+    }
     let mut frames: Vec<PathBuf> = sequence.frames.into_iter().map(|(_, p)| p).collect();
     if let Some(n) = limit {
         frames.truncate(n);

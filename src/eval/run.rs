@@ -132,6 +132,8 @@ fn input_frames(
     match (&options.input, sequence.input()) {
         (Some(input), _) if input.is_file() => Ok(vec![input.clone()]),
         (Some(input), _) => Ok(discover_sequence(input)?
+            .without_empty_ends()?
+            .0
             .frames
             .into_iter()
             .map(|(_, path)| path)

@@ -129,4 +129,6 @@ pub enum IoError {
     },
     #[error("{}: bad sequence pattern: {reason}", pattern.display())]
     BadPattern { pattern: PathBuf, reason: String },
+    #[error("{}: all {count} frames are empty (no vertices, no faces): no surface to track", first.display())]
+    AllEmpty { first: PathBuf, count: usize },
 }

@@ -78,4 +78,4 @@ pub use obj_write::{ObjOptions, write_obj};
 pub use ply_header::PlyEncoding;
 pub use ply_write::{write_ply, write_ply_with};
 pub use repair::RepairReport;
-pub use sequence::{Sequence, discover_sequence};
+pub use sequence::{EmptyEnds, Sequence, discover_sequence};

@@ -1,7 +1,7 @@
 //! Finding the frames of a sequence on disk: every file of one name pattern with a frame number,
 //! in numeric order (9 before 10), with gaps reported.
 
-use super::{Format, IoError};
+use super::{Format, IoError, read_frame};
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -15,6 +15,49 @@ pub struct Sequence {
     pub frames: Vec<(i64, PathBuf)>,
     /// Missing frame numbers as inclusive ranges `(first, last)`.
     pub gaps: Vec<(i64, i64)>,
+}
+
+/// Frames without any surface at the ends of a sequence, as inclusive frame-number ranges.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct EmptyEnds {
+    /// Before the first frame with a surface: a simulation with an inflow writes these until its
+    /// fluid appears.
+    pub leading: Option<(i64, i64)>,
+    /// After the last frame with a surface: the fluid has drained away.
+    pub trailing: Option<(i64, i64)>,
+}
+
+impl Sequence {
+    /// The sequence without the empty frames (an empty file, or no vertices and no faces) at its
+    /// start and its end, and which those were. Frames are read from each end until one is not
+    /// empty; one that fails otherwise stops the scan and is left for the tracker to report. Empty
+    /// frames between two with a surface stay (the tracker stops there, naming the file).
+    pub fn without_empty_ends(mut self) -> Result<(Sequence, EmptyEnds), IoError> {
+        let is_empty = |path: &Path| matches!(read_frame(path), Err(IoError::Empty { .. }));
+        let leading = self.frames.iter().take_while(|(_, p)| is_empty(p)).count();
+        if leading == self.frames.len() {
+            return Err(IoError::AllEmpty {
+                first: self.frames[0].1.clone(),
+                count: leading,
+            });
+        }
+        let trailing = self.frames[leading..]
+            .iter()
+            .rev()
+            .take_while(|(_, p)| is_empty(p))
+            .count();
+        let range = |frames: &[(i64, PathBuf)]| Some((frames.first()?.0, frames.last()?.0));
+        let ends = EmptyEnds {
+            leading: range(&self.frames[..leading]),
+            trailing: range(&self.frames[self.frames.len() - trailing..]),
+        };
+        self.frames.truncate(self.frames.len() - trailing);
+        self.frames.drain(..leading);
+        if let (Some((first, _)), Some((last, _))) = (self.frames.first(), self.frames.last()) {
+            self.gaps.retain(|&(from, to)| from > *first && to < *last);
+        }
+        Ok((self, ends))
+    }
 }
 
 /// Finds a sequence from `input`:
