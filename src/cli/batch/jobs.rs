@@ -34,13 +34,17 @@ pub(super) fn default_jobs(caches: &[&Cache]) -> usize {
     by_cores.min(by_memory).max(1)
 }
 
-/// Resident bytes of tracking `cache`, from the size of its first frame file; `None` when it
-/// cannot be found (the cache then fails on its own when it runs).
+/// Resident bytes of tracking `cache`, from the size of its largest frame file (a cache with an
+/// inflow starts with empty files, and memory follows the largest frame); `None` when none can be
+/// found (the cache then fails on its own when it runs).
 fn resident_estimate(cache: &Cache) -> Option<u64> {
     let sequence = discover_sequence(&cache.input).ok()?;
-    let (_, first) = sequence.frames.first()?;
-    let bytes = std::fs::metadata(first).ok()?.len();
-    let format = Format::from_path(first).ok()?;
+    let (bytes, largest) = sequence
+        .frames
+        .iter()
+        .filter_map(|(_, path)| Some((std::fs::metadata(path).ok()?.len(), path)))
+        .max()?;
+    let format = Format::from_path(largest).ok()?;
     Some(bytes / file_bytes_per_vertex(format) * RESIDENT_BYTES_PER_VERTEX)
 }
 
