@@ -93,6 +93,46 @@ fn assemble_column(
     }
 }
 
+/// `H` restricted to the unknowns of `nodes` (ascending, and coupled by the pattern to no other
+/// node), as a dense row-major `12n × 12n` matrix: for the small components' exact factors
+/// (`small_blocks`).
+pub(crate) fn assemble_dense(
+    pattern: &Pattern,
+    model: &Model,
+    x: &[f64],
+    fit: &[[[f64; 3]; 3]],
+    w: &CoarseWeights,
+    nodes: &[u32],
+) -> Vec<f64> {
+    let m = NODE_DOFS * nodes.len();
+    let local = |scalar: u32| {
+        let node = scalar / NODE_DOFS as u32;
+        nodes
+            .binary_search(&node)
+            .ok()
+            .map(|k| NODE_DOFS * k + scalar as usize % NODE_DOFS)
+    };
+    let mut dense = vec![0.0; m * m];
+    let mut column = Vec::new();
+    for &j in nodes {
+        let j = j as usize;
+        let base = pattern.col_ptr[NODE_DOFS * j] as usize;
+        column.clear();
+        column.resize(pattern.col_ptr[NODE_DOFS * (j + 1)] as usize - base, 0.0);
+        assemble_column(pattern, model, x, fit, w, j, &mut column);
+        for c in NODE_DOFS * j..NODE_DOFS * (j + 1) {
+            let Some(lc) = local(c as u32) else { continue };
+            for at in pattern.col_ptr[c] as usize..pattern.col_ptr[c + 1] as usize {
+                if let Some(lr) = local(pattern.row_idx[at]) {
+                    dense[lr * m + lc] = column[at - base];
+                    dense[lc * m + lr] = column[at - base];
+                }
+            }
+        }
+    }
+    dense
+}
+
 /// `block += (u vᵀ) ⊗ m`.
 #[inline]
 fn add_fit(block: &mut Block, u: &[f64; 4], v: &[f64; 4], m: &[[f64; 3]; 3]) {

@@ -36,6 +36,7 @@ use super::pattern::{Coupling, Pattern};
 use super::pcg::pcg;
 use super::report::{CoarseReport, IterationReport, StageReport, StepTimes};
 use super::rigid::{Rigid, node_unknowns, prealign};
+use super::small_blocks::SmallBlocks;
 use super::surface::Surface;
 use super::{FactorizationError, RegisterError};
 use crate::compute::Backend;
@@ -75,6 +76,9 @@ pub struct CoarseSolver<'a> {
     whole: Model,
     pattern: Arc<Pattern>,
     cholesky: Cholesky,
+    /// A spray's droplets, factored exactly at every solve (none when the factor is of `JᵀJ`
+    /// itself and refreshed every iteration, or when droplets are a small part of the graph).
+    small: SmallBlocks,
     /// Factorization buffers not in use, for the factors of later stages.
     spare: Vec<Cholesky>,
     refactor_after: usize,
@@ -142,6 +146,10 @@ impl<'a> CoarseSolver<'a> {
             LinearSolver::PreconditionedCg { refactor_after } => (Coupling::Graph, refactor_after),
         };
         let pattern = Pattern::new(&model, coupling)?;
+        let small = match coupling {
+            Coupling::Graph => SmallBlocks::new(&pattern),
+            Coupling::Full => SmallBlocks::none(),
+        };
         // Sequential: faer's parallel supernodal factorization meets at spinning barriers, which on
         // two cores shared with other work cost more than the second core gains (measured on the
         // `register` bench frames: 16k vertices 110 ms vs 200 ms for five factorizations, 100k 1.5 s
@@ -185,6 +193,7 @@ impl<'a> CoarseSolver<'a> {
             whole,
             pattern: Arc::new(pattern),
             cholesky,
+            small,
             spare: Vec::new(),
             refactor_after,
             rigid,
@@ -327,9 +336,18 @@ impl<'a> CoarseSolver<'a> {
             weights: self.weights,
             damping: self.damping.lambda(),
         };
+        self.small.refresh(
+            &self.pattern,
+            &self.model,
+            &self.x,
+            &self.fit,
+            &self.weights,
+            self.damping.lambda(),
+        );
         self.delta.copy_from_slice(&self.rhs);
         self.cholesky.solve(&mut self.delta)?;
-        let cholesky = &mut self.cholesky;
+        self.small.apply(&self.rhs, &mut self.delta);
+        let (cholesky, small) = (&mut self.cholesky, &self.small);
         let mut failed = None;
         let solve = pcg(
             |v, out| operator.apply(v, out),
@@ -338,6 +356,7 @@ impl<'a> CoarseSolver<'a> {
                 if let Err(e) = cholesky.solve(z) {
                     failed = Some(e);
                 }
+                small.apply(r, z);
             },
             &self.rhs,
             &mut self.delta,

@@ -36,6 +36,7 @@ mod pcg;
 mod radix_heap;
 mod report;
 mod rigid;
+mod small_blocks;
 mod surface;
 
 use std::time::{Duration, Instant};
