@@ -12,6 +12,7 @@
 mod anchor;
 mod churn;
 mod droplets;
+mod snap;
 
 pub use anchor::anchor_of;
 pub use churn::{Churn, StageChurn};
@@ -372,6 +373,7 @@ impl Tracker {
         times.topology_self = ms(t.elapsed());
         // Lines 10–11: take the target's topology, ConstrainTopology(M, Φ(T_j)).
         let t = Instant::now();
+        snap::snap(backend, &mut self.mesh, &bvh).map_err(|e| TrackError::at(frame, e))?;
         let (constrained, span, continued_target) = self.constrain(frame, &phi_t)?;
         marks.topology_target = span;
         times.topology_target = ms(t.elapsed());
