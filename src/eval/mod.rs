@@ -9,6 +9,7 @@ mod checker;
 mod distance;
 mod drift;
 mod error;
+mod intersections;
 mod options;
 mod plot;
 mod quality;
@@ -22,6 +23,7 @@ pub use distance::{
 };
 pub use drift::{Drift, MaterialPoints};
 pub use error::EvalError;
+pub use intersections::intersecting_pairs;
 pub use options::EvalOptions;
 pub use plot::{plot, stage_times};
 pub use quality::{ASPECT_BUCKETS, TriangleQuality, triangle_quality};

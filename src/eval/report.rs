@@ -34,6 +34,10 @@ pub struct FrameReport {
     pub euler: i64,
     pub input_euler: i64,
     pub quality: TriangleQuality,
+    /// Pairs of triangles passing through each other, in the tracked frame and in the input
+    /// (`intersections`): validity does not see a surface crossing itself, a renderer does.
+    pub crossing_pairs: usize,
+    pub input_crossing_pairs: usize,
     /// Fraction of this frame's vertices present (same id) in the previous frame; none for frame 0.
     pub coherence: Option<f64>,
     /// Where the previous frame's vertices were lost, by stage, as the tracker recorded it.
@@ -80,6 +84,11 @@ pub struct Summary {
     pub topology_mismatches: usize,
     /// Smallest per-frame fraction of triangles above the angle threshold.
     pub min_above_threshold: f64,
+    /// Tracked frames with triangles passing through each other, the most pairs in one frame,
+    /// and the most in one input frame.
+    pub crossing_frames: usize,
+    pub max_crossing_pairs: usize,
+    pub max_input_crossing_pairs: usize,
     /// Mean coherence over frames 1…n−1.
     pub mean_coherence: Option<f64>,
     pub min_coherence: Option<f64>,
@@ -133,6 +142,13 @@ impl Summary {
                 .iter()
                 .map(|f| f.quality.above_threshold)
                 .fold(1.0, f64::min),
+            crossing_frames: frames.iter().filter(|f| f.crossing_pairs > 0).count(),
+            max_crossing_pairs: frames.iter().map(|f| f.crossing_pairs).max().unwrap_or(0),
+            max_input_crossing_pairs: frames
+                .iter()
+                .map(|f| f.input_crossing_pairs)
+                .max()
+                .unwrap_or(0),
             mean_coherence: mean(coherence.iter().copied()),
             min_coherence: coherence.iter().copied().reduce(f64::min),
             lost: frames
@@ -276,6 +292,12 @@ impl EvalReport {
             m.topology_mismatches,
             100.0 * m.min_above_threshold,
             self.angle_threshold
+        );
+        let _ = writeln!(
+            s,
+            "triangles passing through each other: in {} of {} frames, at most {} pairs in a frame \
+             (the input frames: at most {})",
+            m.crossing_frames, m.frames, m.max_crossing_pairs, m.max_input_crossing_pairs
         );
         if let (Some(mean), Some(min)) = (m.mean_coherence, m.min_coherence) {
             let _ = writeln!(

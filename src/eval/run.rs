@@ -4,6 +4,7 @@ use super::EvalError;
 use super::checker::pure_share;
 use super::distance::surface_distances;
 use super::drift::MaterialPoints;
+use super::intersections::intersecting_pairs;
 use super::options::EvalOptions;
 use super::quality::triangle_quality;
 use super::report::{EvalReport, FrameReport};
@@ -110,6 +111,8 @@ fn measure(
         euler: topology.euler(),
         input_euler: input_topology.euler(),
         quality: triangle_quality(mesh, options.angle_threshold),
+        crossing_pairs: intersecting_pairs(mesh),
+        input_crossing_pairs: intersecting_pairs(input),
         coherence: None,
         lost: None,
         checker_pure: None,
