@@ -60,6 +60,18 @@ fn scaled(mesh: &IndexedMesh, scale: f32) -> IndexedMesh {
     mesh
 }
 
+/// `path` read as it is, without repairs.
+fn read_unrepaired(path: &Path) -> surftrack::io::Frame {
+    read_frame_with(
+        path,
+        &ReadOptions {
+            repair: false,
+            ..ReadOptions::default()
+        },
+    )
+    .unwrap()
+}
+
 fn write_and_read(path: &Path, mesh: &IndexedMesh) -> surftrack::io::Frame {
     write_ply(path, mesh).unwrap();
     read_frame(path).unwrap()
@@ -150,14 +162,7 @@ fn degenerate_faces_and_unreferenced_vertices_are_removed() {
     expected.ids = Some((100..100 + n as u64).collect());
     assert_eq!(frame.mesh, expected);
 
-    let raw = read_frame_with(
-        &path,
-        &ReadOptions {
-            repair: false,
-            ..ReadOptions::default()
-        },
-    )
-    .unwrap();
+    let raw = read_unrepaired(&path);
     assert!(raw.repairs.is_clean());
     assert_eq!(raw.mesh, input);
 }
@@ -178,14 +183,7 @@ fn touching(name: &str) -> (IndexedMesh, surftrack::io::RepairReport) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/touching")
         .join(name);
-    let raw = read_frame_with(
-        &path,
-        &ReadOptions {
-            repair: false,
-            ..ReadOptions::default()
-        },
-    )
-    .unwrap();
+    let raw = read_unrepaired(&path);
     let frame = read_frame(&path).unwrap();
     frame.mesh.validate().unwrap();
     assert_eq!(frame.mesh.triangles.len(), raw.mesh.triangles.len());
