@@ -231,8 +231,10 @@ fn pair_around(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::grid::cube::CORNER_OFFSETS;
+    use glam::UVec3;
 
-    /// Two tetrahedra touching at vertex 0 (the bow-tie of `tests/data/broken/bowtie.obj`).
+    /// Two tetrahedra touching at vertex 0 (`tests/data/touching/tetrahedra_at_a_vertex.obj`).
     fn bowtie() -> IndexedMesh {
         let positions = vec![
             Vec3::new(0.0, 0.0, 0.0),
@@ -287,18 +289,19 @@ mod tests {
         assert_eq!(mesh, before);
     }
 
-    /// Two unit cubes touching along the z axis edge through the origin, each triangles with its
-    /// diagonal through its least corner: four triangles meet along the shared edge.
+    /// Two unit cubes touching along the z axis edge through the origin, each face of each (corners
+    /// numbered as a grid cell's) split along the diagonal through its least corner: four triangles
+    /// meet along the shared edge.
     fn cubes_on_an_edge() -> IndexedMesh {
         let mut positions = Vec::new();
         let mut triangles = Vec::new();
         for offset in [Vec3::ZERO, Vec3::new(-1.0, -1.0, 0.0)] {
             let base = positions.len() as u32;
-            for i in 0..8u32 {
-                positions.push(
-                    offset + Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, (i >> 2) as f32),
-                );
-            }
+            positions.extend(
+                CORNER_OFFSETS.map(|c| offset + UVec3::from(c.map(|x| x as u32)).as_vec3()),
+            );
+            // A grid cell's faces (`grid::cube::FACE_CORNERS`) in the order −z, +z, −y, +y, −x,
+            // +x, which fixes the order the split meets the shared corners in (the tests read it).
             let quads = [
                 [0, 2, 3, 1],
                 [4, 5, 7, 6],
