@@ -97,16 +97,8 @@ mod tests {
     fn two_spheres_through_each_other_cross_and_apart_do_not() {
         // Off the axis: spheres mirrored about a plane would cross edge on edge there.
         let sphere = |x: f32| IndexedMesh::icosphere(Vec3::new(x, 0.23 * x, 0.17 * x), 1.0, 2);
-        let join = |a: IndexedMesh, b: IndexedMesh| {
-            let n = a.positions.len() as u32;
-            let mut positions = a.positions;
-            positions.extend(b.positions);
-            let mut triangles = a.triangles;
-            triangles.extend(b.triangles.iter().map(|t| t.map(|v| v + n)));
-            IndexedMesh::new(positions, triangles)
-        };
-        assert!(intersecting_pairs(&join(sphere(0.0), sphere(1.1))) > 0);
-        assert_eq!(intersecting_pairs(&join(sphere(0.0), sphere(2.2))), 0);
+        assert!(intersecting_pairs(&sphere(0.0).joined(&sphere(1.1))) > 0);
+        assert_eq!(intersecting_pairs(&sphere(0.0).joined(&sphere(2.2))), 0);
     }
 
     #[test]

@@ -6,6 +6,17 @@ use glam::Vec3;
 use std::collections::HashMap;
 
 impl IndexedMesh {
+    /// This mesh and `other` side by side as one, `other`'s vertices numbered after this one's
+    /// (positions and triangles only): scenes of several shapes.
+    pub fn joined(&self, other: &IndexedMesh) -> IndexedMesh {
+        let offset = self.positions.len() as u32;
+        let mut positions = self.positions.clone();
+        positions.extend(&other.positions);
+        let mut triangles = self.triangles.clone();
+        triangles.extend(other.triangles.iter().map(|t| t.map(|v| v + offset)));
+        IndexedMesh::new(positions, triangles)
+    }
+
     /// Torus around the z axis with major radius `major`, tube radius `minor`, `nu × nv` quads split
     /// into triangles (genus 1, χ = 0).
     pub fn torus(major: f32, minor: f32, nu: usize, nv: usize) -> IndexedMesh {

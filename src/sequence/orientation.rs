@@ -136,15 +136,6 @@ mod tests {
         mesh
     }
 
-    fn joined(a: &IndexedMesh, b: &IndexedMesh) -> IndexedMesh {
-        let offset = a.positions.len() as u32;
-        let mut both = a.clone();
-        both.positions.extend(&b.positions);
-        both.triangles
-            .extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
-        both
-    }
-
     #[test]
     fn inward_frames_and_inside_out_droplets_are_turned_and_bubbles_are_not() {
         let body = IndexedMesh::icosphere(Vec3::ZERO, 2.0, 2);
@@ -163,13 +154,13 @@ mod tests {
         assert_eq!(fixed.triangles, body.triangles);
         // A bubble: a smaller inward sphere inside the body, left as it is.
         let bubble = turned(IndexedMesh::icosphere(Vec3::ZERO, 1.0, 2));
-        let with_bubble = joined(&body, &bubble);
+        let with_bubble = body.joined(&bubble);
         let (kept, what) = outward(Cow::Borrowed(&with_bubble));
         assert!(!what.any());
         assert_eq!(kept.triangles, with_bubble.triangles);
         // A droplet inside out beside the body, turned alone.
         let droplet = IndexedMesh::icosphere(Vec3::new(5.0, 0.0, 0.0), 0.5, 1);
-        let inside_out = joined(&with_bubble, &turned(droplet.clone()));
+        let inside_out = with_bubble.joined(&turned(droplet.clone()));
         let (fixed, what) = outward(Cow::Borrowed(&inside_out));
         assert_eq!(
             what,
@@ -178,12 +169,9 @@ mod tests {
                 components: 1
             }
         );
-        assert_eq!(fixed.triangles, joined(&with_bubble, &droplet).triangles);
+        assert_eq!(fixed.triangles, with_bubble.joined(&droplet).triangles);
         // A droplet in a bubble in the body faces outward: an inward one there is turned too.
-        let nested = joined(
-            &with_bubble,
-            &turned(IndexedMesh::icosphere(Vec3::ZERO, 0.25, 1)),
-        );
+        let nested = with_bubble.joined(&turned(IndexedMesh::icosphere(Vec3::ZERO, 0.25, 1)));
         let (_, what) = outward(Cow::Borrowed(&nested));
         assert_eq!(what.components, 1);
     }

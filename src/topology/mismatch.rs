@@ -330,15 +330,6 @@ mod tests {
         )
     }
 
-    fn join(a: &IndexedMesh, b: &IndexedMesh) -> IndexedMesh {
-        let mut both = a.clone();
-        let offset = both.positions.len() as u32;
-        both.positions.extend(&b.positions);
-        both.triangles
-            .extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
-        both
-    }
-
     #[test]
     fn near_pairs_are_every_pair_of_cells_at_most_one_step_apart() {
         // Scattered cells, some repeated, of several components.
@@ -370,7 +361,7 @@ mod tests {
         let a = IndexedMesh::icosphere(Vec3::new(-2.0, 0.0, 0.0), 1.0, 3);
         let b = IndexedMesh::icosphere(Vec3::new(2.0, 0.0, 0.0), 1.0, 3);
         let shifted = IndexedMesh::icosphere(Vec3::new(2.05, 0.0, 0.0), 1.0, 2);
-        assert!(compare(&join(&a, &b), &join(&a, &shifted)).is_empty());
+        assert!(compare(&a.joined(&b), &a.joined(&shifted)).is_empty());
     }
 
     #[test]
@@ -381,7 +372,7 @@ mod tests {
         let right = IndexedMesh::icosphere(Vec3::new(0.9, 0.0, 0.0), 1.0, 3);
         let far = IndexedMesh::icosphere(Vec3::new(6.0, 0.0, 0.0), 1.0, 3);
         let merged = IndexedMesh::icosphere(Vec3::ZERO, 1.9, 3);
-        let wrong = compare(&join(&join(&left, &right), &far), &join(&merged, &far));
+        let wrong = compare(&left.joined(&right).joined(&far), &merged.joined(&far));
         let cell_of = |p: Vec3| cell(&frame(), p);
         assert!(wrong.binary_search(&cell_of(left.positions[0])).is_ok());
         assert!(wrong.binary_search(&cell_of(right.positions[0])).is_ok());
@@ -418,8 +409,8 @@ mod tests {
         let body = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
         let blob = IndexedMesh::icosphere(Vec3::new(1.75, 0.0, 0.0), 0.6, 3);
         let far = IndexedMesh::icosphere(Vec3::new(9.0, 0.0, 0.0), 2.5, 3);
-        let result = join(&body, &blob);
-        let theta = join(&join(&body, &blob), &far);
+        let result = body.joined(&blob);
+        let theta = body.joined(&blob).joined(&far);
         let cell_of = |p: Vec3| cell(&frame(), p);
         let explained: FxHashSet<Cell> = [cell_of(body.positions[0])].into_iter().collect();
         // The blob's only partner besides the body's is left alone with the body; the far body
@@ -441,7 +432,7 @@ mod tests {
         let ball = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
         let extra = IndexedMesh::icosphere(Vec3::new(8.0, 0.0, 0.0), 2.5, 3);
         let droplet = IndexedMesh::icosphere(Vec3::new(1.2, 0.0, 0.0), 0.1, 1);
-        let result = join(&join(&ball, &extra), &droplet);
+        let result = ball.joined(&extra).joined(&droplet);
         let cell_of = |p: Vec3| cell(&frame(), p);
         assert!(!compare(&result, &ball).is_empty());
         let explained: FxHashSet<Cell> = [cell_of(extra.positions[0])].into_iter().collect();
@@ -465,7 +456,7 @@ mod tests {
             let a = IndexedMesh::icosphere(Vec3::ZERO, 0.4 * scale, 3);
             let b = IndexedMesh::icosphere(Vec3::new(0.95 * scale, 0.0, 0.0), 0.4 * scale, 3);
             let theta = IndexedMesh::icosphere(Vec3::new(0.5 * scale, 0.0, 0.0), 0.6 * scale, 3);
-            (join(&a, &b), theta)
+            (a.joined(&b), theta)
         };
         let (result, theta) = surfaces(1.0);
         assert!(compare_explained(&result, &theta, &explained).is_empty());
@@ -485,10 +476,10 @@ mod tests {
         // Two large balls a little apart in the result, and two in Θ shifted along the line by
         // half the gap, so each of Θ's lies next to both of the result's.
         let ball = |x: f32| IndexedMesh::icosphere(Vec3::new(x, 0.0, 0.0), 2.5, 3);
-        let result = join(&ball(0.0), &ball(5.2));
-        let theta = join(&ball(0.1), &ball(5.1));
+        let result = ball(0.0).joined(&ball(5.2));
+        let theta = ball(0.1).joined(&ball(5.1));
         assert!(compare_explained(&result, &theta, &explained).is_empty());
-        let more = join(&result, &ball(10.4));
+        let more = result.joined(&ball(10.4));
         assert!(!compare_explained(&more, &theta, &explained).is_empty());
     }
 }

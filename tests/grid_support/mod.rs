@@ -126,14 +126,9 @@ pub fn flipped(mesh: &IndexedMesh) -> IndexedMesh {
 
 /// Disjoint union of meshes.
 pub fn union(meshes: &[IndexedMesh]) -> IndexedMesh {
-    let mut positions = Vec::new();
-    let mut triangles = Vec::new();
-    for m in meshes {
-        let base = positions.len() as u32;
-        positions.extend_from_slice(&m.positions);
-        triangles.extend(m.triangles.iter().map(|t| t.map(|v| v + base)));
-    }
-    IndexedMesh::new(positions, triangles)
+    meshes
+        .iter()
+        .fold(IndexedMesh::default(), |all, m| all.joined(m))
 }
 
 /// The closed surface of the box `lo ..= hi` (in cells, integers) with one vertex on every grid
