@@ -1,7 +1,7 @@
 //! Finding the frames of a sequence on disk: every file of one name pattern with a frame number,
 //! in numeric order (9 before 10), with gaps reported.
 
-use super::{Format, IoError, read_frame};
+use super::{Format, IoError, ReadOptions, read_frame_with};
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -33,7 +33,18 @@ impl Sequence {
     /// empty; one that fails otherwise stops the scan and is left for the tracker to report. Empty
     /// frames between two with a surface stay (the tracker stops there, naming the file).
     pub fn without_empty_ends(mut self) -> Result<(Sequence, EmptyEnds), IoError> {
-        let is_empty = |path: &Path| matches!(read_frame(path), Err(IoError::Empty { .. }));
+        // Every reader finds an empty file itself, before any repair: the first frame with a
+        // surface is not repaired here only to be read again by the tracker.
+        let unrepaired = ReadOptions {
+            repair: false,
+            ..ReadOptions::default()
+        };
+        let is_empty = |path: &Path| {
+            matches!(
+                read_frame_with(path, &unrepaired),
+                Err(IoError::Empty { .. })
+            )
+        };
         let leading = self.frames.iter().take_while(|(_, p)| is_empty(p)).count();
         if leading == self.frames.len() {
             return Err(IoError::AllEmpty {
