@@ -373,7 +373,8 @@ impl Tracker {
         times.topology_self = ms(t.elapsed());
         // Lines 10–11: take the target's topology, ConstrainTopology(M, Φ(T_j)).
         let t = Instant::now();
-        snap::snap(backend, &mut self.mesh, &bvh).map_err(|e| TrackError::at(frame, e))?;
+        snap::snap(backend, &mut self.mesh, &bvh, self.params.min_angle_degrees)
+            .map_err(|e| TrackError::at(frame, e))?;
         let (constrained, span, continued_target) = self.constrain(frame, &phi_t)?;
         marks.topology_target = span;
         times.topology_target = ms(t.elapsed());

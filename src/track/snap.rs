@@ -19,14 +19,15 @@ use crate::project::{Bvh, ProjectError, closest_points};
 /// How far a vertex may move, in the target's mean edge lengths.
 pub const REACH: f32 = 1.0;
 
-/// The smallest angle a moved vertex's triangles may keep, in degrees, unless the triangle was
-/// thinner before.
-const MIN_ANGLE: f32 = 10.0;
-
 /// Moves every vertex within [`REACH`] of the target behind `bvh` onto its closest point there,
-/// where its triangles stay facing the same way and no thinner than `MIN_ANGLE`; returns how many
-/// moved.
-pub fn snap(backend: &Backend, mesh: &mut Mesh, bvh: &Bvh) -> Result<usize, ProjectError> {
+/// where its triangles stay facing the same way and no thinner than `min_angle` degrees (the
+/// improvement step's limit) unless they were thinner before; returns how many moved.
+pub fn snap(
+    backend: &Backend,
+    mesh: &mut Mesh,
+    bvh: &Bvh,
+    min_angle: f32,
+) -> Result<usize, ProjectError> {
     let vertices: Vec<VertexId> = mesh.vertices().collect();
     let points: Vec<Vec3> = vertices.iter().map(|&v| mesh.position(v)).collect();
     let nearest = closest_points(backend, bvh, &points, REACH)?;
@@ -53,7 +54,7 @@ pub fn snap(backend: &Backend, mesh: &mut Mesh, bvh: &Bvh) -> Result<usize, Proj
             let angle_before = min_angle_degrees(before[0], before[1], before[2]);
             let angle_after = min_angle_degrees(after[0], after[1], after[2]);
             let spoiled = normal(before).dot(normal(after)) <= 0.0
-                || angle_after < MIN_ANGLE.min(angle_before);
+                || angle_after < min_angle.min(angle_before);
             if spoiled {
                 for v in corners {
                     if moved[v.0 as usize].take().is_some() {
@@ -79,8 +80,15 @@ pub fn snap(backend: &Backend, mesh: &mut Mesh, bvh: &Bvh) -> Result<usize, Proj
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    use crate::improve::ImproveParams;
     use crate::mesh::IndexedMesh;
     use glam::Quat;
+
+    /// The improvement step's default limit.
+    fn min_angle() -> f32 {
+        ImproveParams::new(1.0).min_angle_degrees
+    }
 
     /// A sphere of radius `radius`, triangulated as a turned icosphere so that no vertex of it is
     /// a vertex of the unturned one.
@@ -99,7 +107,7 @@ mod tests {
         let bvh = Bvh::build(&target).unwrap();
         let source = sphere(1.03, 3, false);
         let mut mesh = Mesh::from_indexed(&source).unwrap();
-        let moved = snap(&Backend::Cpu, &mut mesh, &bvh).unwrap();
+        let moved = snap(&Backend::Cpu, &mut mesh, &bvh, min_angle()).unwrap();
         assert_eq!(moved, source.positions.len());
         let after = mesh.to_indexed();
         let found = closest_points(&Backend::Cpu, &bvh, &after.positions, f32::INFINITY).unwrap();
@@ -115,7 +123,7 @@ mod tests {
                 min_angle_degrees(a[0], a[1], a[2]),
                 min_angle_degrees(b[0], b[1], b[2]),
             );
-            assert!(now >= MIN_ANGLE.min(before));
+            assert!(now >= min_angle().min(before));
         }
     }
 
@@ -125,7 +133,10 @@ mod tests {
         let bvh = Bvh::build(&target).unwrap();
         let source = sphere(1.5, 3, false);
         let mut mesh = Mesh::from_indexed(&source).unwrap();
-        assert_eq!(snap(&Backend::Cpu, &mut mesh, &bvh).unwrap(), 0);
+        assert_eq!(
+            snap(&Backend::Cpu, &mut mesh, &bvh, min_angle()).unwrap(),
+            0
+        );
         assert_eq!(mesh.to_indexed().positions, source.positions);
     }
 }
