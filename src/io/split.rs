@@ -36,12 +36,14 @@ pub(crate) struct Split {
 /// done again.
 pub(crate) fn split_non_manifold(mesh: &mut IndexedMesh) -> Split {
     // A mesh that faces inward (the tracker turns it later, `sequence::orientation`) has its
-    // solid where its normals point.
-    let inward = mesh.signed_volume() < 0.0;
+    // solid where its normals point. Only an edge of more than two triangles asks, so a clean
+    // frame does not sum its volume.
+    let inward = std::cell::OnceCell::new();
+    let inward = || *inward.get_or_init(|| mesh.signed_volume() < 0.0);
     let vertices = mesh.positions.len();
     let mut across_air = Vec::new();
     for _ in 0..MAX_ROUNDS {
-        let Some((pairs, edges)) = pair_half_edges(mesh, &across_air, inward) else {
+        let Some((pairs, edges)) = pair_half_edges(mesh, &across_air, &inward) else {
             return Split::default();
         };
         let (split, copies) = split_fans(vertices, &mesh.triangles, &pairs);
@@ -136,11 +138,12 @@ fn next(corner: u32) -> u32 {
 /// Every half-edge paired with one running the other way (half-edge `3t + k` runs from corner `k`
 /// of triangle `t` to the next), and how many edges had more than two triangles; `None` when an
 /// edge has unequal numbers of triangles each way or cannot be paired around. Edges of more than
-/// two triangles pair across the solid, except those in `across_air`; `inward` swaps the two.
+/// two triangles pair across the solid, except those in `across_air`; `inward()` (whether the mesh
+/// faces inward) swaps the two.
 fn pair_half_edges(
     mesh: &IndexedMesh,
     across_air: &[(u32, u32)],
-    inward: bool,
+    inward: &dyn Fn() -> bool,
 ) -> Option<(Vec<(u32, u32)>, usize)> {
     let (positions, triangles) = (&mesh.positions, &mesh.triangles);
     let half_edges: Vec<(u32, u32, u32)> = mesh
@@ -166,7 +169,7 @@ fn pair_half_edges(
             pairs.push(if origin(f) == a { (f, g) } else { (g, f) });
         } else {
             edges += 1;
-            let air = across_air.binary_search(&(a, b)).is_ok() != inward;
+            let air = across_air.binary_search(&(a, b)).is_ok() != inward();
             pairs.extend(pair_around(positions, triangles, a, b, group, air)?);
         }
     }
