@@ -470,7 +470,8 @@ type LoopPair = (Vec<u32>, Vec<u32>);
 struct Memo {
     /// The grid the region's cells belong to.
     frame: GridFrame,
-    /// Per side, its vertices (sorted, without repeats) and the cell of each.
+    /// Per side, its vertices (without repeats) with the cell of each, in order of cell: a
+    /// region (sorted cells) finds the vertices inside it in one pass along both lists.
     ours: Vec<(u32, Cell)>,
     theirs: Vec<(u32, Cell)>,
     /// The gap of a pair of loops (kept, copied), keyed by their vertices.
@@ -487,10 +488,12 @@ impl Memo {
                 .collect();
             vertices.sort_unstable();
             vertices.dedup();
-            vertices
+            let mut placed: Vec<(u32, Cell)> = vertices
                 .into_iter()
                 .map(|v| (v, cell(frame, side.mesh.positions[v as usize])))
-                .collect()
+                .collect();
+            placed.sort_unstable_by_key(|&(v, c)| (c, v));
+            placed
         };
         Memo {
             frame: *frame,
@@ -509,10 +512,12 @@ type Masked = (Vec<bool>, Option<Vec<Vec<u32>>>);
 /// copied (masks over each side's triangles), and each side's boundary loops (none where one is
 /// not a simple loop).
 fn masks(region: &[[i32; 3]], (ours, theirs): (&Side, &Side), memo: &Memo) -> (Masked, Masked) {
-    let inside = |side: &Side, cells: &[(u32, Cell)]| -> Vec<bool> {
+    let inside = |side: &Side, placed: &[(u32, Cell)]| -> Vec<bool> {
         let mut at = vec![false; side.mesh.positions.len()];
-        for &(v, c) in cells {
-            at[v as usize] = region.binary_search(&c).is_ok();
+        let mut cells = region.iter().peekable();
+        for &(v, c) in placed {
+            while cells.next_if(|&&r| r < c).is_some() {}
+            at[v as usize] = cells.peek() == Some(&&c);
         }
         at
     };
