@@ -11,15 +11,56 @@
 //! least-cost path that stays within [`BAND`] columns of it), then wherever cells come within
 //! that path's cost, about a third of the table on the dam break's grafts. Every cell of the
 //! second pass holds what the whole table holds there, so the path is the one the whole table
-//! gives, ties included.
+//! gives, ties included. Where the strip must fold, though, that bound is mostly folds that
+//! every path pays, and the second pass reaches nearly every cell: large tables
+//! ([`PARALLEL_CELLS`]) have all their step costs computed first, on every core, and the passes
+//! read them.
+
+use rayon::prelude::*;
 
 /// Columns either side of the table's diagonal that the first, bounding pass fills.
 const BAND: usize = 32;
+
+/// Tables of at least this many cells have every step's cost computed first, on all cores. The
+/// second fill reaches nearly every cell where the strip must fold (the bound of the band's path
+/// is then mostly folds, which any path pays): on the dam break's main body, rim loops of 750–980
+/// vertices, 65–125 ms each on one core.
+const PARALLEL_CELLS: usize = 1 << 16;
 
 /// The steps of the least-cost path from corner `(0, 0)` to `(n, m)`, in order: `true` advances
 /// `i` at cost `down(i, j)`, `false` advances `j` at cost `across(i, j)`. Costs must not be
 /// negative. Where both ways into a cell cost the same, the path comes down into it.
 pub(super) fn least_cost_steps(
+    n: usize,
+    m: usize,
+    down: impl Fn(usize, usize) -> f32 + Sync,
+    across: impl Fn(usize, usize) -> f32 + Sync,
+) -> Vec<bool> {
+    if (n + 1) * (m + 1) < PARALLEL_CELLS {
+        return bounded_steps(n, m, down, across);
+    }
+    // Each cost is the same number however it is computed, so the path is too.
+    let (down_costs, across_costs) =
+        rayon::join(|| costs(n, m + 1, &down), || costs(n + 1, m, &across));
+    bounded_steps(
+        n,
+        m,
+        |i, j| down_costs[i * (m + 1) + j],
+        |i, j| across_costs[i * m + j],
+    )
+}
+
+/// `cost(i, j)` for every cell of a `rows × columns` table, row-major, computed in parallel.
+fn costs(rows: usize, columns: usize, cost: &(impl Fn(usize, usize) -> f32 + Sync)) -> Vec<f32> {
+    (0..rows * columns)
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|k| cost(k / columns, k % columns))
+        .collect()
+}
+
+/// [`least_cost_steps`], each cost computed where the fills ask for it.
+fn bounded_steps(
     n: usize,
     m: usize,
     down: impl Fn(usize, usize) -> f32,
