@@ -82,9 +82,7 @@ pub(super) fn replacement(
         }
         triangles.push(kept);
     }
-    // Creations: going forward, every tracked vertex exists when they are applied. A copy reads
-    // the tracked components its copy or graft replaces, any other copy the whole tracked
-    // surface; the copies reading one surface are asked at once.
+    // The input components copied in, whole or grafted, and the input vertices each copies.
     let copying: Vec<usize> = (0..theirs.len())
         .filter(|&k| insert[k] || grafts[k].is_some())
         .collect();
@@ -109,40 +107,13 @@ pub(super) fn replacement(
     };
     let copied: Vec<Vec<u32>> = copying.iter().map(|&k| copies_of(k)).collect();
     let copied_at = |i: usize| copied[i].iter().map(|&v| target.positions[v as usize]);
-    let mut sources: Vec<Vec<Vec<(u32, f32)>>> = vec![Vec::new(); copying.len()];
-    let inserted: Vec<usize> = (0..copying.len())
-        .filter(|&i| replaces[copying[i]].is_empty())
-        .collect();
-    read_sources(
-        (&current.positions, &current.triangles, spacing, carry),
-        &inserted,
-        copied_at,
-        &mut sources,
-    )?;
-    for i in (0..copying.len()).filter(|&i| !replaces[copying[i]].is_empty()) {
-        let replaced: Vec<[u32; 3]> = replaces[copying[i]]
-            .iter()
-            .flat_map(|&c| &s.ours.triangles[c])
-            .map(|&t| current.triangles[t as usize])
-            .collect();
-        read_sources(
-            (&current.positions, &replaced, spacing, carry),
-            &[i],
-            copied_at,
-            &mut sources,
-        )?;
-    }
-    let mut record: Vec<Mutation> = Vec::new();
     let mut target_index = vec![u32::MAX; target.positions.len()];
-    for ((&k, copied), sources) in copying.iter().zip(copied.iter()).zip(sources) {
-        for (&v, source) in copied.iter().zip(sources) {
+    let first_created = next_id;
+    for (&k, copied) in copying.iter().zip(copied.iter()) {
+        for &v in copied {
             target_index[v as usize] = positions.len() as u32;
             positions.push(target.positions[v as usize]);
             new_ids.push(next_id);
-            record.push(Mutation::PatchCreated {
-                created: next_id,
-                sources: source.into_iter().map(|(u, w)| (id_of(u), w)).collect(),
-            });
             next_id += 1;
         }
         let corner = |c: Corner| match c {
@@ -164,10 +135,6 @@ pub(super) fn replacement(
         triangles.extend_from_slice(&copies);
         result_of[k].extend(copies);
     }
-
-    // Deletions: going backward, every kept vertex and every copy exists when they are undone. A
-    // vertex of a replaced or grafted component reads that component's result; any other
-    // deleted vertex the whole new surface. The vertices reading one surface are asked at once.
     let gone: Vec<(usize, Vec<u32>)> = (0..ours.len())
         .filter(|&c| delete[c])
         .map(|c| {
@@ -175,26 +142,78 @@ pub(super) fn replacement(
             (c, vertices.filter(|&v| !keep[v as usize]).collect())
         })
         .collect();
-    let mut sources: Vec<Vec<Vec<(u32, f32)>>> = vec![Vec::new(); gone.len()];
-    let mut readers: Vec<Option<usize>> = gone.iter().map(|(c, _)| group_of[*c]).collect();
-    readers.sort_unstable();
-    readers.dedup();
-    for reader in readers {
-        let asking: Vec<usize> = (0..gone.len())
-            .filter(|&i| group_of[gone[i].0] == reader)
+    let mut surface = IndexedMesh::new(positions, triangles);
+    surface.ids = Some(new_ids);
+
+    // Creations: going forward, every tracked vertex exists when they are applied. A copy reads
+    // the tracked components its copy or graft replaces, any other copy the whole tracked
+    // surface; the copies reading one surface are asked at once.
+    let created = || -> Result<Sources, SubgridError> {
+        let mut sources: Sources = vec![Vec::new(); copying.len()];
+        let inserted: Vec<usize> = (0..copying.len())
+            .filter(|&i| replaces[copying[i]].is_empty())
             .collect();
-        let surface = match reader {
-            Some(k) => &result_of[k],
-            None => &triangles,
-        };
         read_sources(
-            (&positions, surface, spacing, carry),
-            &asking,
-            |i| gone[i].1.iter().map(|&v| current.positions[v as usize]),
+            (&current.positions, &current.triangles, spacing, carry),
+            &inserted,
+            copied_at,
             &mut sources,
         )?;
+        for i in (0..copying.len()).filter(|&i| !replaces[copying[i]].is_empty()) {
+            let replaced: Vec<[u32; 3]> = replaces[copying[i]]
+                .iter()
+                .flat_map(|&c| &s.ours.triangles[c])
+                .map(|&t| current.triangles[t as usize])
+                .collect();
+            read_sources(
+                (&current.positions, &replaced, spacing, carry),
+                &[i],
+                copied_at,
+                &mut sources,
+            )?;
+        }
+        Ok(sources)
+    };
+    // Deletions: going backward, every kept vertex and every copy exists when they are undone. A
+    // vertex of a replaced or grafted component reads that component's result; any other
+    // deleted vertex the whole new surface. The vertices reading one surface are asked at once.
+    let deleted = || -> Result<Sources, SubgridError> {
+        let mut sources: Sources = vec![Vec::new(); gone.len()];
+        let mut readers: Vec<Option<usize>> = gone.iter().map(|(c, _)| group_of[*c]).collect();
+        readers.sort_unstable();
+        readers.dedup();
+        for reader in readers {
+            let asking: Vec<usize> = (0..gone.len())
+                .filter(|&i| group_of[gone[i].0] == reader)
+                .collect();
+            let on = match reader {
+                Some(k) => &result_of[k],
+                None => &surface.triangles,
+            };
+            read_sources(
+                (&surface.positions, on, spacing, carry),
+                &asking,
+                |i| gone[i].1.iter().map(|&v| current.positions[v as usize]),
+                &mut sources,
+            )?;
+        }
+        Ok(sources)
+    };
+    // The two reads and the new surface's half-edges need only the assembled surface: they are
+    // found side by side.
+    let ((created, deleted), built) = rayon::join(
+        || rayon::join(created, deleted),
+        || Mesh::from_indexed(&surface),
+    );
+    let mut record: Vec<Mutation> = Vec::new();
+    for (source, id) in created?.into_iter().flatten().zip(first_created..) {
+        record.push(Mutation::PatchCreated {
+            created: id,
+            sources: source.into_iter().map(|(u, w)| (id_of(u), w)).collect(),
+        });
     }
-    for ((_, vertices), found) in gone.iter().zip(sources) {
+    let new_ids = surface.ids.as_deref().unwrap_or_default();
+    for ((_, vertices), found) in gone.iter().zip(deleted?) {
         for (&v, source) in vertices.iter().zip(found) {
             record.push(Mutation::PatchDeleted {
                 deleted: id_of(v),
@@ -205,13 +224,14 @@ pub(super) fn replacement(
             });
         }
     }
-    let mut surface = IndexedMesh::new(positions, triangles);
-    surface.ids = Some(new_ids);
     Ok(Replacement {
-        surface: Mesh::from_indexed(&surface)?,
+        surface: built?,
         record,
     })
 }
+
+/// Per list of points, per point, the (vertex, weight) terms it takes its data from.
+type Sources = Vec<Vec<Vec<(u32, f32)>>>;
 
 /// For each list `i` of `asking`, what the points `at(i)` take from `surface` (triangles over
 /// `positions`) under `carry` (`Transfer::read`), into `sources[i]`: every list reading one
