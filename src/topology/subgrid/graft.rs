@@ -729,9 +729,9 @@ enum Part {
 ///
 /// A round only ever moves triangles out of the movable set (the kept ones, or those not
 /// copied), so it can only create a small piece or a pinched vertex next to a triangle it
-/// moved: the first round looks at every triangle, and each later one only around those the
-/// round before it moved (a graft's region is re-masked a few dozen times per frame, and most
-/// of each side lies far from its rim).
+/// moved: the first round starts from the mask's rim and from the side's own small pieces, and
+/// each later one only around the triangles the round before it moved (a graft's region is
+/// re-masked a few dozen times per frame, and most of each side lies far from its rim).
 fn clean_rounds(side: &Side, mask: &mut [bool], part: Part) {
     let mut clean = Cleaning {
         side,
@@ -821,6 +821,7 @@ impl Cleaning<'_, '_> {
                     .filter(|&&i| {
                         let i = i as usize;
                         mask[i] && {
+                            // `v` is a corner of every triangle around it.
                             let k = side.corners(i).iter().position(|&c| c == v).unwrap_or(0);
                             side.free(mask, i, k)
                         }
