@@ -32,13 +32,9 @@ fn closed_meshes_validate_with_the_right_topology() {
 
 #[test]
 fn two_components_are_counted_separately() {
-    let mut m = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 1);
-    let t = IndexedMesh::torus(3.0, 1.0, 12, 8);
-    let offset = m.positions.len() as u32;
-    m.positions
-        .extend(t.positions.iter().map(|p| *p + Vec3::X * 10.0));
-    m.triangles
-        .extend(t.triangles.iter().map(|tri| tri.map(|v| v + offset)));
+    let mut t = IndexedMesh::torus(3.0, 1.0, 12, 8);
+    t.positions.iter_mut().for_each(|p| *p += Vec3::X * 10.0);
+    let m = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 1).joined(&t);
     assert_eq!(m.validate(), Ok(()));
     let topo = m.topology();
     let genus: Vec<i64> = topo.components.iter().map(|c| c.genus).collect();

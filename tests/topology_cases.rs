@@ -222,11 +222,7 @@ fn two_spheres_overlapping_touching_and_apart() {
         let r = 4.0;
         let a = surface(ball(Vec3::new(-r - gap / 2.0, 0.1, 0.0), r), 0.9);
         let b = surface(ball(Vec3::new(r + gap / 2.0, 0.0, 0.2), r), 0.85);
-        let mut both = a.clone();
-        let offset = both.positions.len() as u32;
-        both.positions.extend(&b.positions);
-        both.triangles
-            .extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
+        let both = a.joined(&b);
         if both.validate().is_err() {
             continue;
         }
@@ -493,11 +489,7 @@ fn merged_and_punched() -> [(IndexedMesh, Field); 2] {
     let centres = [Vec3::new(-r + 1.0, 0.1, 0.0), Vec3::new(r - 1.0, 0.0, 0.2)];
     let a = surface(ball(centres[0], r), 0.9);
     let b = surface(ball(centres[1], r), 0.85);
-    let mut both = a.clone();
-    let offset = both.positions.len() as u32;
-    both.positions.extend(&b.positions);
-    both.triangles
-        .extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
+    let both = a.joined(&b);
     let merge = phi(&both);
     let holed = sampled(move |p: Vec3| {
         ball(centres[0], r)(p).max(1.2 - Vec3::new(p.x - centres[0].x, p.y, 0.0).length())
@@ -626,13 +618,8 @@ fn bar(handle: bool) -> IndexedMesh {
 fn a_difference_the_grid_cannot_mend_is_left_to_a_caller_below_the_grid() {
     let mesh = bar(true);
     assert_eq!(euler_list(&mesh), vec![0], "the bar has its handle");
-    let mut target = bar(false);
     let blob = surface(ball(Vec3::new(-8.0, 0.5, 7.0), 1.6), 0.4);
-    let offset = target.positions.len() as u32;
-    target.positions.extend(&blob.positions);
-    target
-        .triangles
-        .extend(blob.triangles.iter().map(|t| t.map(|v| v + offset)));
+    let target = bar(false).joined(&blob);
     let theta = phi(&target);
 
     let keep = TopologyOptions {

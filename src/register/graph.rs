@@ -250,12 +250,7 @@ mod tests {
     fn two_spheres(gap: f32) -> IndexedMesh {
         let a = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
         let b = IndexedMesh::icosphere(Vec3::new(2.0 + gap, 0.0, 0.0), 1.0, 3);
-        let offset = a.positions.len() as u32;
-        let mut positions = a.positions.clone();
-        positions.extend(&b.positions);
-        let mut triangles = a.triangles.clone();
-        triangles.extend(b.triangles.iter().map(|t| t.map(|v| v + offset)));
-        IndexedMesh::new(positions, triangles)
+        a.joined(&b)
     }
 
     #[test]

@@ -72,11 +72,7 @@ mod tests {
         let frame = GridFrame::new(Vec3::new(0.013, -0.021, 0.007), 0.5).unwrap();
         let ours = IndexedMesh::icosphere(Vec3::ZERO, 2.0, 4);
         let ball = IndexedMesh::icosphere(Vec3::new(6.0, 0.0, 0.0), 1.0, 3);
-        let mut both = ours.clone();
-        let offset = both.positions.len() as u32;
-        both.positions.extend(&ball.positions);
-        both.triangles
-            .extend(ball.triangles.iter().map(|t| t.map(|v| v + offset)));
+        let both = ours.joined(&ball);
         // Θ has the ball the tracked mesh lacks, and the same sphere.
         let theta = Field::signed_distance(&Backend::Cpu, frame, &both).unwrap();
         let half = Mesh::from_indexed(&ours).unwrap();
