@@ -449,6 +449,68 @@ fn a_local_difference_is_grafted_and_the_rest_keeps_its_vertices() {
     assert_closest_corner_x(&mesh, &before, &values, "forward");
 }
 
+/// `mesh` with every triangle split into four at its edges' midpoints, `times` times: the same
+/// surface, sampled finer.
+fn split_flat(mesh: &IndexedMesh, times: u32) -> IndexedMesh {
+    let mut out = mesh.clone();
+    for _ in 0..times {
+        let mut positions = out.positions.clone();
+        let mut middle = std::collections::HashMap::new();
+        let mut at = |a: u32, b: u32, positions: &mut Vec<Vec3>| -> u32 {
+            *middle.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                positions.push((positions[a as usize] + positions[b as usize]) * 0.5);
+                positions.len() as u32 - 1
+            })
+        };
+        let mut triangles = Vec::new();
+        for &[a, b, c] in &out.triangles {
+            let (ab, bc, ca) = (
+                at(a, b, &mut positions),
+                at(b, c, &mut positions),
+                at(c, a, &mut positions),
+            );
+            triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+        }
+        out = IndexedMesh::new(positions, triangles);
+    }
+    out
+}
+
+#[test]
+fn a_difference_smaller_than_the_inputs_triangles_is_grafted() {
+    // The input is a coarse polyhedron; the tracked surface is the same polyhedron sampled 64
+    // times finer, with one vertex pulled out into a spike farther than the bound. The cells
+    // around the spike hold no whole input triangle: the region grows until they do, and the
+    // spike is grafted away instead of the whole body being replaced.
+    let target = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 1);
+    let mut ours = split_flat(&target, 3);
+    let tip = ours
+        .positions
+        .iter()
+        .position(|p| p.z > 0.0 && (p.x.abs() + p.y.abs()) > 0.2)
+        .unwrap();
+    ours.positions[tip] *= 1.25;
+    let (before, mesh, counts, _) = run_with(&ours, &target, 0.25, 0.15, Fidelity::Input);
+    assert_eq!(
+        counts,
+        SubgridCounts {
+            deleted: 0,
+            inserted: 0,
+            replaced: 0,
+            grafted: 1,
+        }
+    );
+    let out = mesh.to_indexed();
+    out.validate().unwrap();
+    assert_eq!(out.topology().euler(), 2);
+    assert!(!out.positions.contains(&ours.positions[tip]));
+    assert!(
+        kept_share(&before, &mesh) > 0.5,
+        "{}",
+        kept_share(&before, &mesh)
+    );
+}
+
 #[test]
 fn whole_input_fidelity_replaces_instead_of_grafting() {
     let (ours, target) = sphere_and_bump();
