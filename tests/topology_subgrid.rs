@@ -370,6 +370,14 @@ fn a_component_farther_than_the_bound_is_replaced() {
 
 /// The tracked unit sphere, and the input: the same sphere with a smooth bump 0.4 high within 25°
 /// of +z, farther than the bound of 0.15 used with it.
+/// What a match that grafts one component and touches nothing else reports.
+const GRAFTED_ONCE: SubgridCounts = SubgridCounts {
+    deleted: 0,
+    inserted: 0,
+    replaced: 0,
+    grafted: 1,
+};
+
 fn sphere_and_bump() -> (IndexedMesh, IndexedMesh) {
     let sphere = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 4);
     let (height, edge) = (0.4, 25f32.to_radians().cos());
@@ -393,15 +401,7 @@ fn a_local_difference_is_grafted_and_the_rest_keeps_its_vertices() {
     // around it take the input's triangles.
     let (ours, target) = sphere_and_bump();
     let (before, mesh, counts, events) = run_with(&ours, &target, 0.25, 0.15, Fidelity::Input);
-    assert_eq!(
-        counts,
-        SubgridCounts {
-            deleted: 0,
-            inserted: 0,
-            replaced: 0,
-            grafted: 1,
-        }
-    );
+    assert_eq!(counts, GRAFTED_ONCE);
     let out = mesh.to_indexed();
     out.validate().unwrap();
     let topology = out.topology();
@@ -491,15 +491,7 @@ fn a_difference_smaller_than_the_inputs_triangles_is_grafted() {
         .unwrap();
     ours.positions[tip] *= 1.25;
     let (before, mesh, counts, _) = run_with(&ours, &target, 0.25, 0.15, Fidelity::Input);
-    assert_eq!(
-        counts,
-        SubgridCounts {
-            deleted: 0,
-            inserted: 0,
-            replaced: 0,
-            grafted: 1,
-        }
-    );
+    assert_eq!(counts, GRAFTED_ONCE);
     let out = mesh.to_indexed();
     out.validate().unwrap();
     assert_eq!(out.topology().euler(), 2);

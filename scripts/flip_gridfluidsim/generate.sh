@@ -12,7 +12,7 @@ fi
 here="$(cd "$(dirname "$0")" && pwd)"
 scene="${SCENE:-pool_drop}"
 if [ ! -f "$here/scenes/$scene.cpp" ]; then
-  echo "unknown SCENE '$scene': expected one of $(ls "$here/scenes" | sed 's/\.cpp$//' | xargs)" >&2
+  echo "unknown SCENE '$scene': expected one of $(ls "$here/scenes" | grep '\.cpp$' | sed 's/\.cpp$//' | xargs)" >&2
   exit 2
 fi
 out="$(mkdir -p "$1" && cd "$1" && pwd)"
@@ -23,6 +23,7 @@ if [ ! -d "$solver" ]; then
   python3 "$here/patch.py" "$solver"
 fi
 cp "$here/scenes/$scene.cpp" "$solver/src/main.cpp"
+cp "$here/scenes/scene.h" "$solver/src/scene.h"
 mkdir -p "$solver/build"
 (cd "$solver/build" &&
   cmake .. -DCMAKE_POLICY_VERSION_MINIMUM=3.5 -DCMAKE_CXX_FLAGS="-fpermissive -w -include limits" > cmake.log &&
