@@ -449,33 +449,6 @@ fn a_local_difference_is_grafted_and_the_rest_keeps_its_vertices() {
     assert_closest_corner_x(&mesh, &before, &values, "forward");
 }
 
-/// `mesh` with every triangle split into four at its edges' midpoints, `times` times: the same
-/// surface, sampled finer.
-fn split_flat(mesh: &IndexedMesh, times: u32) -> IndexedMesh {
-    let mut out = mesh.clone();
-    for _ in 0..times {
-        let mut positions = out.positions.clone();
-        let mut middle = std::collections::HashMap::new();
-        let mut at = |a: u32, b: u32, positions: &mut Vec<Vec3>| -> u32 {
-            *middle.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                positions.push((positions[a as usize] + positions[b as usize]) * 0.5);
-                positions.len() as u32 - 1
-            })
-        };
-        let mut triangles = Vec::new();
-        for &[a, b, c] in &out.triangles {
-            let (ab, bc, ca) = (
-                at(a, b, &mut positions),
-                at(b, c, &mut positions),
-                at(c, a, &mut positions),
-            );
-            triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
-        }
-        out = IndexedMesh::new(positions, triangles);
-    }
-    out
-}
-
 #[test]
 fn a_difference_smaller_than_the_inputs_triangles_is_grafted() {
     // The input is a coarse polyhedron; the tracked surface is the same polyhedron sampled 64
@@ -483,7 +456,7 @@ fn a_difference_smaller_than_the_inputs_triangles_is_grafted() {
     // around the spike hold no whole input triangle: the region grows until they do, and the
     // spike is grafted away instead of the whole body being replaced.
     let target = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 1);
-    let mut ours = split_flat(&target, 3);
+    let mut ours = target.split_flat(3);
     let tip = ours
         .positions
         .iter()

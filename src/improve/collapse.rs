@@ -11,9 +11,9 @@
 //! An edge shorter than [`NEGLIGIBLE`] of the collapse threshold moves no face measurably when it
 //! collapses: its two triangles are needles whose normals say nothing, and a fold or an inverted
 //! face beside them is already there, hidden behind a needle. The fold and orientation checks
-//! would keep such a needle for ever (on the DFSPH double dam break's frame 15, 71 refusals of collapses of
-//! edges near 10⁻⁶ L were of that kind, and output frames held 0.001° triangles), so they
-//! are skipped for it; the mesh's own checks and the deviation bound still hold.
+//! would keep such a needle for ever (on the DFSPH double dam break's frame 15, 71 refusals of
+//! collapses of edges near 10⁻⁶ L were of that kind, and output frames held 0.001° triangles),
+//! so they are skipped for it; the mesh's own checks and the deviation bound still hold.
 
 use super::deviation::within;
 use super::diamond::diamond;

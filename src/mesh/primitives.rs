@@ -17,6 +17,17 @@ impl IndexedMesh {
         IndexedMesh::new(positions, triangles)
     }
 
+    /// Every triangle split into four at its edges' midpoints, `times` times: the same surface,
+    /// sampled finer (edges shared by two triangles get one midpoint).
+    pub fn split_flat(&self, times: u32) -> IndexedMesh {
+        let mut positions = self.positions.clone();
+        let mut triangles = self.triangles.clone();
+        for _ in 0..times {
+            triangles = split_in_four(&mut positions, &triangles, |a, b| (a + b) * 0.5);
+        }
+        IndexedMesh::new(positions, triangles)
+    }
+
     /// Torus around the z axis with major radius `major`, tube radius `minor`, `nu × nv` quads split
     /// into triangles (genus 1, χ = 0).
     pub fn torus(major: f32, minor: f32, nu: usize, nv: usize) -> IndexedMesh {
@@ -85,24 +96,33 @@ impl IndexedMesh {
             [9, 8, 1],
         ];
         for _ in 0..levels {
-            let mut midpoints: HashMap<(u32, u32), u32> = HashMap::new();
-            let mut next = Vec::with_capacity(triangles.len() * 4);
-            for &[a, b, c] in &triangles {
-                let mut mid = |x: u32, y: u32| -> u32 {
-                    *midpoints.entry((x.min(y), x.max(y))).or_insert_with(|| {
-                        let p = (positions[x as usize] + positions[y as usize]).normalize();
-                        positions.push(p);
-                        (positions.len() - 1) as u32
-                    })
-                };
-                let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
-                next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
-            }
-            triangles = next;
+            triangles = split_in_four(&mut positions, &triangles, |a, b| (a + b).normalize());
         }
         for p in &mut positions {
             *p = center + *p * radius;
         }
         IndexedMesh::new(positions, triangles)
     }
+}
+
+/// `triangles` split into four each, the new vertex of an edge `(x, y)` at `middle(x, y)` appended
+/// to `positions` once per edge.
+fn split_in_four(
+    positions: &mut Vec<Vec3>,
+    triangles: &[[u32; 3]],
+    middle: impl Fn(Vec3, Vec3) -> Vec3,
+) -> Vec<[u32; 3]> {
+    let mut midpoints: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut next = Vec::with_capacity(triangles.len() * 4);
+    for &[a, b, c] in triangles {
+        let mut mid = |x: u32, y: u32| -> u32 {
+            *midpoints.entry((x.min(y), x.max(y))).or_insert_with(|| {
+                positions.push(middle(positions[x as usize], positions[y as usize]));
+                (positions.len() - 1) as u32
+            })
+        };
+        let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
+        next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+    }
+    next
 }
