@@ -5,12 +5,12 @@
 #[path = "topology_support/mod.rs"]
 pub mod topology_support;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use surftrack::compute::Backend;
 use surftrack::grid::{GridFrame, ScalarGrid, marching_cubes};
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::project::{Bvh, closest_points};
-use surftrack::topology::{Carry, Field, TopologyOptions, constrain_topology};
+use surftrack::topology::{Carry, Field, Moves, TopologyOptions, constrain_topology};
 use topology_support::{Case, Kind, Outcome, check, euler_list};
 
 fn frame() -> GridFrame {
@@ -151,6 +151,66 @@ fn patch_vertices_standing_on_the_vertices_they_replace_continue_them() {
     assert!(continued.len() >= 5, "{continued:?}");
     let reach = 0.25 * frame().spacing();
     assert!(continued.iter().all(|&d| d <= reach), "{continued:?}");
+}
+
+#[test]
+fn patch_vertices_move_onto_the_carried_vertices_they_replace() {
+    // Θ joins two balls by a bar the mesh lacks. The patch re-samples the cells around the
+    // bar's ends, grown until their front is simple; around the bar the ball's surface is Θ's
+    // zero set, and there the patch's new vertices move onto the old ones, which go on.
+    let balls = || {
+        union(
+            ball(Vec3::new(-4.0, 0.0, 0.0), 3.5),
+            ball(Vec3::new(4.2, 0.3, 0.0), 3.5),
+        )
+    };
+    let m = surface(balls(), 0.8);
+    let bar = |p: Vec3| Vec2::new(p.y - 0.15, p.z).length() - 1.3;
+    let theta = sampled(union(balls(), bar));
+    let run = |moves: Moves| {
+        let mut mesh = Mesh::from_indexed(&m).unwrap();
+        let options = TopologyOptions {
+            moves,
+            ..TopologyOptions::default()
+        };
+        constrain_topology(&mut mesh, &theta, &options).unwrap();
+        mesh.to_indexed()
+    };
+    let every = Moves {
+        carried_below: u64::MAX,
+        longest_edge: 2.0 * frame().spacing(),
+    };
+    let (unmoved, moved) = (run(Moves::default()), run(every));
+    moved.validate().unwrap();
+    assert_eq!(euler_list(&moved), vec![2]);
+    assert_eq!(
+        moved.triangles, unmoved.triangles,
+        "only positions and ids change"
+    );
+    let old: std::collections::HashMap<u64, Vec3> = m
+        .ids
+        .clone()
+        .unwrap_or_else(|| (0..m.positions.len() as u64).collect())
+        .into_iter()
+        .zip(m.positions.clone())
+        .collect();
+    let kept = |out: &IndexedMesh| {
+        let ids = out.ids.as_ref().unwrap();
+        ids.iter().filter(|id| old.contains_key(id)).count()
+    };
+    let (lost_unmoved, lost_moved) = (old.len() - kept(&unmoved), old.len() - kept(&moved));
+    // Most of those lost lie under the bar, inside Θ; some ten stand beside it.
+    assert!(
+        lost_moved + 5 <= lost_unmoved,
+        "{lost_moved} old vertices lost with moves, {lost_unmoved} without"
+    );
+    // An old vertex that goes on stands where it stood or within the continue reach of it.
+    let reach = 0.25 * frame().spacing();
+    for (id, p) in moved.ids.as_ref().unwrap().iter().zip(&moved.positions) {
+        if let Some(q) = old.get(id) {
+            assert!(q.distance(*p) <= reach, "{id}: {q} to {p}");
+        }
+    }
 }
 
 /// A cube of side `n` cells whose vertices sit on grid corners, edges on grid edges and faces in

@@ -12,8 +12,8 @@ use surftrack::geometry::point_triangle::point_triangle_distance;
 use surftrack::grid::{ScalarGrid, marching_cubes};
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::project::Bvh;
-use surftrack::topology::Carry;
 use surftrack::topology::subgrid::{Fidelity, SubgridCounts, match_below_grid};
+use surftrack::topology::{Carry, Moves};
 
 fn constant(ids: &[u64]) -> VertexValues {
     VertexValues::from_parts(1, ids, &vec![0.25; ids.len()]).unwrap()
@@ -45,15 +45,24 @@ fn run_with(
         ours,
         target,
         (spacing, max_distance),
-        (fidelity, Carry::Corner, 0.0),
+        (fidelity, Carry::Corner, 0.0, Moves::default()),
     )
+}
+
+/// Moves onto every removed vertex, as if all were carried from an earlier frame, with edges up
+/// to two cells long.
+fn every_carried(spacing: f32) -> Moves {
+    Moves {
+        carried_below: u64::MAX,
+        longest_edge: 2.0 * spacing,
+    }
 }
 
 fn run_carrying(
     ours: &IndexedMesh,
     target: &IndexedMesh,
     (spacing, max_distance): (f32, f32),
-    policy: (Fidelity, Carry, f32),
+    policy: (Fidelity, Carry, f32, Moves),
 ) -> (Mesh, Mesh, SubgridCounts, surftrack::events::EventList) {
     let before = Mesh::from_indexed(ours).unwrap();
     let mut mesh = before.clone();
@@ -265,7 +274,7 @@ fn a_large_component_with_another_topology_is_replaced_and_keeps_its_data() {
 fn a_replaced_component_blends_its_data_when_asked() {
     let ours = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
     let target = IndexedMesh::torus(0.8, 0.3, 48, 16);
-    let policy = (Fidelity::Input, Carry::Blend, 0.0);
+    let policy = (Fidelity::Input, Carry::Blend, 0.0, Moves::default());
     let (before, mesh, counts, events) = run_carrying(&ours, &target, (0.25, 0.25), policy);
     assert_eq!(counts.replaced, 1);
     events.check().unwrap();
@@ -292,18 +301,23 @@ fn a_copied_vertex_standing_on_the_vertex_it_reads_continues_it() {
     let ours = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
     let target = IndexedMesh::torus(0.8, 0.3, 48, 16);
     let (spacing, reach) = (0.25, 0.25);
-    let policy = (Fidelity::Input, Carry::Corner, reach);
+    let policy = (
+        Fidelity::Input,
+        Carry::Corner,
+        reach,
+        every_carried(spacing),
+    );
     let (before, mesh, counts, events) = run_carrying(&ours, &target, (spacing, spacing), policy);
     assert_eq!(counts.replaced, 1);
     events.check().unwrap();
     let out = mesh.to_indexed();
     out.validate().unwrap();
     assert_eq!(
-        out.positions, target.positions,
-        "the copy's geometry is the input's"
+        out.triangles, target.triangles,
+        "the copy's connectivity is the input's"
     );
-    // Some copied vertices stand within a quarter cell of the sphere vertex they read: those
-    // vertices go on there, each at most that far from where it stood.
+    // Some copied vertices stand within a quarter cell of the sphere vertex they read, or were
+    // moved onto one: those vertices go on there, each at most that far from where it stood.
     let old = before.to_indexed();
     let was: std::collections::HashMap<u64, Vec3> =
         old.ids.unwrap().into_iter().zip(old.positions).collect();
@@ -321,17 +335,40 @@ fn a_copied_vertex_standing_on_the_vertex_it_reads_continues_it() {
         moved.iter().all(|&d| d <= reach * spacing + 1e-6),
         "{moved:?}"
     );
+    // Every other vertex stands where the input's does; a moved one stands on the sphere vertex
+    // it continues, within a tenth of a cell of the input's surface.
+    for ((id, p), q) in out
+        .ids
+        .as_ref()
+        .unwrap()
+        .iter()
+        .zip(&out.positions)
+        .zip(&target.positions)
+    {
+        if p != q {
+            assert_eq!(
+                was.get(id),
+                Some(p),
+                "{id} moved, yet not onto a vertex it continues"
+            );
+            assert!(
+                surface_distance(&target, *p) <= 0.1 * spacing + 1e-6,
+                "{id} at {p}"
+            );
+        }
+    }
     // They keep their values, which are what the copy would have read: a corner of the closest
     // triangle, both ways.
     let ids_before = check_x_both_ways((&before, &mesh), &events, assert_closest_corner_x);
     let mut values = constant(&ids_before);
     forward(&events, &mut values).unwrap();
     assert_constant(&values, out.ids.as_deref().unwrap());
-    // Without a reach every vertex of the copy is new.
-    let policy = (Fidelity::Input, Carry::Corner, 0.0);
+    // Without a reach every vertex of the copy is new, and stands where the input's does.
+    let policy = (Fidelity::Input, Carry::Corner, 0.0, every_carried(spacing));
     let (_, mesh, _, _) = run_carrying(&ours, &target, (spacing, spacing), policy);
-    let ids = mesh.to_indexed().ids.unwrap();
-    assert!(ids.iter().all(|id| !was.contains_key(id)));
+    let out = mesh.to_indexed();
+    assert!(out.ids.unwrap().iter().all(|id| !was.contains_key(id)));
+    assert_eq!(out.positions, target.positions);
 }
 
 /// Checks that every vertex of `mesh` carries the x coordinate of the point of `source` closest
@@ -447,6 +484,61 @@ fn a_local_difference_is_grafted_and_the_rest_keeps_its_vertices() {
     let (_, mut values) = x_values(&before);
     forward(&events, &mut values).unwrap();
     assert_closest_corner_x(&mesh, &before, &values, "forward");
+}
+
+#[test]
+fn a_graft_moves_copied_vertices_onto_the_tracked_ones_it_removes() {
+    // The input is the tracked sphere sampled otherwise (turned), with a bump farther than the
+    // bound. The graft's region reaches cells beyond the bump, where the tracked vertices lie
+    // on the input: there the copied vertices nearest them move onto them and continue them,
+    // though few stand within the continue reach (a tenth of a cell) of one.
+    let (ours, bumped) = sphere_and_bump();
+    let turn = glam::Quat::from_rotation_z(0.05) * glam::Quat::from_rotation_x(0.03);
+    let target = IndexedMesh {
+        positions: bumped.positions.iter().map(|&p| turn * p).collect(),
+        ..bumped
+    };
+    let spacing = 0.25;
+    let graft = |reach: f32| {
+        let policy = (
+            Fidelity::Input,
+            Carry::Corner,
+            reach,
+            every_carried(spacing),
+        );
+        run_carrying(&ours, &target, (spacing, 0.15), policy)
+    };
+    let (before, unmoved, counts, _) = graft(0.0);
+    assert_eq!(counts, GRAFTED_ONCE);
+    let (_, moved, counts, events) = graft(0.1);
+    assert_eq!(counts, GRAFTED_ONCE);
+    let out = moved.to_indexed();
+    out.validate().unwrap();
+    assert_eq!(out.topology().euler(), 2);
+    events.check().unwrap();
+    let (lost_unmoved, lost_moved) = (
+        1.0 - kept_share(&before, &unmoved),
+        1.0 - kept_share(&before, &moved),
+    );
+    assert!(
+        lost_moved < 0.5 * lost_unmoved,
+        "lost {lost_moved} of the vertices, {lost_unmoved} without moving or continuing"
+    );
+    // A vertex that goes on stands where it stood, or within the continue reach of it, and
+    // every vertex lies within the bound of the input.
+    let old = before.to_indexed();
+    let was: std::collections::HashMap<u64, Vec3> =
+        old.ids.unwrap().into_iter().zip(old.positions).collect();
+    for (id, p) in out.ids.as_ref().unwrap().iter().zip(&out.positions) {
+        if let Some(q) = was.get(id) {
+            assert!(q.distance(*p) <= 0.1 * spacing + 1e-6, "{id}: {q} to {p}");
+        }
+        assert!(surface_distance(&target, *p) <= 0.15, "{id} at {p}");
+    }
+    let ids_before = check_x_both_ways((&before, &moved), &events, assert_closest_corner_x);
+    let mut values = constant(&ids_before);
+    forward(&events, &mut values).unwrap();
+    assert_constant(&values, out.ids.as_deref().unwrap());
 }
 
 #[test]

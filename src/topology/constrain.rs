@@ -36,6 +36,7 @@ use super::isosurface::{isosurface, place_isosurface, signature};
 use super::keys::{Cell, GridEdge, GridFace, cell_face, cell_neighbour};
 use super::mesh_grid::MeshGrid;
 use super::mismatch::{Isosurface, mismatched};
+use super::move_onto::move_onto;
 use super::narrow::changing;
 use super::points::Point;
 use super::record::record;
@@ -44,6 +45,7 @@ use super::transfer::{Carry, Transfer};
 use super::{Abandoned, Resampling, TopologyError, TopologyOptions, TopologyReport};
 use super::{cell, droplets};
 use crate::mesh::{IndexedMesh, Mesh, Replacement};
+use glam::Vec3;
 
 /// Constrains the topology of `mesh` to that of Θ's isosurface (paper §4.3): where the two differ
 /// deeply, the mesh's triangles are replaced by Θ's isosurface, cut and stitched along the boundary
@@ -222,7 +224,8 @@ fn resample(
         // The first attempt's record reads the input's tree: built meanwhile.
         let attempted = old.prepare_while(|| attempt_region(&grid, theta, &region, &mut checks));
         let outcome = match attempted {
-            Ok((built, splits)) => {
+            Ok((mut built, splits)) => {
+                move_fill(&mut built, &input, (theta.frame().spacing(), options));
                 let recorded = record(
                     &grid,
                     &built,
@@ -400,6 +403,38 @@ fn verify(
     output.ids = Some(recorded.ids.clone());
     output.attributes.clear();
     Mesh::from_indexed(&output).map_err(|e| Failure::Element(e.vertices(&mesh.triangles)))
+}
+
+/// Moves new vertices of the fill onto the carried input vertices the patch removes
+/// (`move_onto`), where the options ask for it; cut points stay on the cut.
+fn move_fill(built: &mut Built, input: &IndexedMesh, (spacing, options): (f32, &TopologyOptions)) {
+    let moves = options.moves;
+    if moves.carried_below == 0 || options.continue_within <= 0.0 {
+        return;
+    }
+    let mut kept = vec![false; input.positions.len()];
+    let mut fill = Vec::new();
+    for (i, p) in built.points.iter().enumerate() {
+        match *p {
+            Point::Vertex(v) => kept[v as usize] = true,
+            _ if p.is_fill() => fill.push(i as u32),
+            _ => {}
+        }
+    }
+    let ids = input.ids.as_deref().unwrap_or_default();
+    let removed: Vec<Vec3> = (0..input.positions.len())
+        .filter(|&v| !kept[v] && ids.get(v).is_some_and(|&id| id < moves.carried_below))
+        .map(|v| input.positions[v])
+        .collect();
+    let mesh = &mut built.mesh;
+    let bounds = (spacing, moves.longest_edge);
+    move_onto(
+        &mut mesh.positions,
+        &mesh.triangles,
+        &fill,
+        &removed,
+        bounds,
+    );
 }
 
 /// Cells a point lies in or on.

@@ -28,6 +28,21 @@ pub struct TopologyOptions {
     /// replacing it (see `Replacement::continuing`); 0 gives every patch vertex a new id, as the
     /// paper does (§4.4).
     pub continue_within: f32,
+    /// Which removed vertices a new vertex of the patch moves onto, so they go on as it (see
+    /// `Moves`); none by default. Needs `continue_within` above 0.
+    pub moves: Moves,
+}
+
+/// Where re-sampling moves a new vertex onto each carried vertex it removes (`move_onto`): a
+/// topology patch's fill, the sub-grid match's copies.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Moves {
+    /// Removed vertices with smaller ids (those carried over from an earlier frame) have a new
+    /// vertex moved onto them where the move keeps the new surface in place; 0: none.
+    pub carried_below: u64,
+    /// No move makes an edge longer than this (world units) or than the longest around the
+    /// vertex: improvement would split it, blending its ends' data (its `max_edge_length`).
+    pub longest_edge: f32,
 }
 
 impl Default for TopologyOptions {
@@ -37,6 +52,7 @@ impl Default for TopologyOptions {
             keep_shared_sheets: false,
             carry: Carry::default(),
             continue_within: CONTINUE_WITHIN,
+            moves: Moves::default(),
         }
     }
 }

@@ -25,7 +25,7 @@ use crate::mesh::{IndexedMesh, Mesh, MeshError};
 use crate::project::{Bvh, ProjectError, closest_points};
 use crate::register::{RegisterError, RegisterOptions, Target, register};
 use crate::topology::subgrid::{Fidelity, SubgridCounts, SubgridError, match_and_improve};
-use crate::topology::{Field, TopologyError, TopologyOptions, constrain_topology};
+use crate::topology::{Field, Moves, TopologyError, TopologyOptions, constrain_topology};
 use anchor::localized;
 use churn::Marks;
 use glam::Vec3;
@@ -380,6 +380,7 @@ impl Tracker {
         times.topology_target = ms(t.elapsed());
         // What the grid cannot see, then line 12: improve (with the match's re-check).
         let (t, mark) = (Instant::now(), self.mesh.journal_len());
+        let moves = self.moves();
         let matched = match_and_improve(
             backend,
             &mut self.mesh,
@@ -392,6 +393,7 @@ impl Tracker {
                 self.options.fidelity,
                 self.options.topology.carry,
                 self.options.topology.continue_within,
+                moves,
             ),
             &self.params,
         )
@@ -473,6 +475,7 @@ impl Tracker {
         // Where the sub-grid match follows, the sheets it would copy back are kept.
         let options = TopologyOptions {
             keep_shared_sheets: self.options.fidelity != Fidelity::Grid,
+            moves: self.moves(),
             ..self.options.topology
         };
         let report = constrain_topology(&mut self.mesh, theta, &options)
@@ -482,6 +485,15 @@ impl Tracker {
             mark..self.mesh.journal_len(),
             report.continued,
         ))
+    }
+
+    /// This frame's moves of new vertices onto the carried ones re-sampling removes: those from
+    /// earlier frames, within the longest edge improvement keeps.
+    fn moves(&self) -> Moves {
+        Moves {
+            carried_below: self.params.relax_below,
+            longest_edge: self.params.max_edge_length(),
+        }
     }
 
     /// Improves the mesh (paper §4.1), adding its time; where its records lie in the journal.

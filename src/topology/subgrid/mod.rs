@@ -47,7 +47,7 @@ use crate::grid::RasterError;
 use crate::improve::{ImproveError, ImproveParams, improve};
 use crate::mesh::{IndexedMesh, Mesh, MeshError};
 use crate::project::{Bvh, ProjectError};
-use crate::topology::Carry;
+use crate::topology::{Carry, Moves};
 use earlier::Earlier;
 use matching::{Components, InputDistances};
 use serde::{Deserialize, Serialize};
@@ -130,20 +130,24 @@ struct Surfaces<'a> {
     earlier: Option<&'a Earlier>,
     /// How the copies and the deleted vertices take their data.
     carry: Carry,
+    /// Which removed vertices a copied vertex moves onto (`Moves`).
+    moves: Moves,
 }
 
 /// Makes `mesh`'s components agree with `target`'s where the grid of spacing `spacing` cannot
 /// (see the module comment); `max_distance` (world units) is the farthest either surface may lie
 /// from the other. `bvh` is built over `target`. The change goes through `Mesh::replace`, whose
 /// record lists creations first, then deletions. Returns what changed; `mesh` is untouched when
-/// nothing does. `carry` says how the copies and the deleted vertices take their data.
+/// nothing does. `carry` says how the copies and the deleted vertices take their data; a copied
+/// vertex standing within `continue_within` cells of a removed vertex it reads continues it, and
+/// `moves` say which removed vertices a copied vertex moves onto first.
 pub fn match_below_grid(
     backend: &Backend,
     mesh: &mut Mesh,
     (target, bvh): (&IndexedMesh, &Bvh),
     spacing: f32,
     max_distance: f32,
-    (fidelity, carry, continue_within): (Fidelity, Carry, f32),
+    policy: (Fidelity, Carry, f32, Moves),
 ) -> Result<SubgridCounts, SubgridError> {
     let input = InputDistances::new(bvh);
     match_against(
@@ -151,7 +155,7 @@ pub fn match_below_grid(
         mesh,
         (target, &input),
         (spacing, max_distance),
-        (fidelity, carry, continue_within),
+        policy,
         (&mut None, &mut Vec::new()),
     )
 }
@@ -159,13 +163,14 @@ pub fn match_below_grid(
 /// [`match_below_grid`] with the distances to the input measured so far in this frame, and what
 /// the last call that measured the input against the tracked surface exactly found (`earlier`,
 /// replaced by this call's where it measures exactly). The ids of the vertices a copied vertex
-/// continued (see `Replacement::continuing`) go into `continued`.
+/// continued (see `Replacement::continuing`) go into `continued`. `moves` apply unless the copies
+/// must be the input's own (`Fidelity::InputWhole`) or no vertex continues (`continue_within` 0).
 fn match_against(
     backend: &Backend,
     mesh: &mut Mesh,
     (target, input): (&IndexedMesh, &InputDistances),
     (spacing, max_distance): (f32, f32),
-    (fidelity, carry, continue_within): (Fidelity, Carry, f32),
+    (fidelity, carry, continue_within, moves): (Fidelity, Carry, f32, Moves),
     (earlier, continued): (&mut Option<Earlier>, &mut Vec<u64>),
 ) -> Result<SubgridCounts, SubgridError> {
     let current = mesh.to_indexed();
@@ -181,6 +186,11 @@ fn match_against(
         max_distance,
         earlier: earlier.as_ref(),
         carry,
+        moves: match fidelity {
+            Fidelity::InputWhole => Moves::default(),
+            _ if continue_within <= 0.0 => Moves::default(),
+            _ => moves,
+        },
     };
     let matched = matching::match_components(
         backend,
@@ -234,7 +244,7 @@ pub fn match_and_improve(
     mesh: &mut Mesh,
     target: (&IndexedMesh, &Bvh),
     (spacing, max_distance): (f32, f32),
-    (fidelity, carry, continue_within): (Fidelity, Carry, f32),
+    policy: (Fidelity, Carry, f32, Moves),
     params: &ImproveParams,
 ) -> Result<SubgridReport, SubgridError> {
     let mut report = SubgridReport::default();
@@ -250,7 +260,6 @@ pub fn match_and_improve(
     let target = (target.0, &input);
     let bounds = (spacing, max_distance);
     let mut earlier = None;
-    let policy = (fidelity, carry, continue_within);
     let mut matched = |mesh: &mut Mesh| {
         let memo = (&mut earlier, &mut report.continued);
         match_against(backend, mesh, target, bounds, policy, memo)

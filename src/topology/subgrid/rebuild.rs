@@ -11,6 +11,7 @@ use super::decide::Plan;
 use super::graft::Corner;
 use super::{SubgridError, Surfaces};
 use crate::mesh::{IndexedMesh, Mesh, Mutation, Replacement};
+use crate::topology::move_onto::move_onto;
 use crate::topology::transfer::{Carry, Transfer};
 
 /// The replacement `plan` stands for; created vertices take ids from `next_id` on. Fails when the
@@ -106,10 +107,12 @@ pub(super) fn replacement(
         }
     };
     let copied: Vec<Vec<u32>> = copying.iter().map(|&k| copies_of(k)).collect();
-    let copied_at = |i: usize| copied[i].iter().map(|&v| target.positions[v as usize]);
     let mut target_index = vec![u32::MAX; target.positions.len()];
     let first_created = next_id;
+    // Per copy, where its vertices lie among the new surface's (moved ones included).
+    let mut copied_range = Vec::with_capacity(copying.len());
     for (&k, copied) in copying.iter().zip(copied.iter()) {
+        let first = positions.len() as u32;
         for &v in copied {
             target_index[v as usize] = positions.len() as u32;
             positions.push(target.positions[v as usize]);
@@ -132,6 +135,17 @@ pub(super) fn replacement(
                 .map(|&t| target.triangles[t as usize].map(|v| target_index[v as usize]))
                 .collect(),
         };
+        let carried: Vec<Vec3> = replaces[k]
+            .iter()
+            .flat_map(|&c| &ours[c].vertices)
+            .filter(|&&v| !keep[v as usize] && id_of(v) < s.moves.carried_below)
+            .map(|&v| current.positions[v as usize])
+            .collect();
+        let end = positions.len() as u32;
+        let movable: Vec<u32> = (first..end).collect();
+        let bounds = (spacing, s.moves.longest_edge);
+        move_onto(&mut positions, &copies, &movable, &carried, bounds);
+        copied_range.push(first as usize..end as usize);
         triangles.extend_from_slice(&copies);
         result_of[k].extend(copies);
     }
@@ -144,6 +158,7 @@ pub(super) fn replacement(
         .collect();
     let mut surface = IndexedMesh::new(positions, triangles);
     surface.ids = Some(new_ids);
+    let copied_at = |i: usize| surface.positions[copied_range[i].clone()].iter().copied();
 
     // Creations: going forward, every tracked vertex exists when they are applied. A copy reads
     // the tracked components its copy or graft replaces, any other copy the whole tracked
