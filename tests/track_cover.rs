@@ -5,40 +5,17 @@
 //! runs use `--fidelity grid`, so no component is replaced by the input's for lying too far: the
 //! distances are the registration's own.
 
+mod track_support;
+
 use std::path::Path;
-use std::process::{Command, Stdio};
 
-fn surftrack() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_surftrack"))
-}
-
-fn run(command: &mut Command) {
-    let status = command
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .unwrap();
-    assert!(status.success(), "{command:?}");
-}
+use track_support::{run, surftrack, track};
 
 /// Tracks `input` with `extra` flags and returns each frame's Hausdorff distance in Δ.
 fn hausdorff(input: &Path, out: &Path, extra: &[&str]) -> Vec<f64> {
-    run(surftrack()
-        .arg("track")
-        .arg(input)
-        .arg("-o")
-        .arg(out)
-        .args(["--backend", "cpu", "--quiet", "--fidelity", "grid"])
-        .args(extra));
+    run(track(input, out, &["--fidelity", "grid"]).args(extra));
     run(surftrack().arg("eval").arg(out).arg("--input").arg(input));
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("eval.json")).unwrap()).unwrap();
-    report["frames"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|f| f["hausdorff"].as_f64().unwrap())
-        .collect()
+    track_support::hausdorff(out)
 }
 
 #[test]

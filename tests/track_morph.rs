@@ -4,33 +4,9 @@
 //! frame, so no frame strays farther than half a cell from its input (issue 21's clean-sequence
 //! bar: 0.524 Δ before the tracker gained its coherence; 0.657 Δ without that last placement).
 
-use std::path::Path;
-use std::process::{Command, Stdio};
+mod track_support;
 
-fn surftrack() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_surftrack"))
-}
-
-fn run(command: &mut Command) {
-    let status = command
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .unwrap();
-    assert!(status.success(), "{command:?}");
-}
-
-/// Each frame's Hausdorff distance to its input in Δ, from `eval`'s report.
-fn hausdorff(out: &Path) -> Vec<f64> {
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("eval.json")).unwrap()).unwrap();
-    report["frames"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|f| f["hausdorff"].as_f64().unwrap())
-        .collect()
-}
+use track_support::{hausdorff, run, surftrack, track};
 
 #[test]
 fn the_morph_stays_on_its_input_where_the_hole_opens() {
@@ -40,12 +16,7 @@ fn the_morph_stays_on_its_input_where_the_hole_opens() {
     run(surftrack()
         .args(["synth", "morph", "--frames", "12", "-o"])
         .arg(&input));
-    run(surftrack()
-        .arg("track")
-        .arg(&input)
-        .arg("-o")
-        .arg(&out)
-        .args(["--backend", "cpu", "--quiet"]));
+    run(&mut track(&input, &out, &[]));
     run(surftrack().arg("eval").arg(&out).arg("--input").arg(&input));
     let distances = hausdorff(&out);
     assert_eq!(distances.len(), 12);

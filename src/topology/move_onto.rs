@@ -20,7 +20,7 @@
 use glam::Vec3;
 use rustc_hash::FxHashMap;
 
-use crate::topology::keys::NEIGHBOURS;
+use super::nearest::Survivors;
 
 /// Farthest a copied vertex moves onto a removed carried one, in grid spacings: about the
 /// distance between neighbouring vertices, so that in a region where both surfaces are sampled
@@ -93,31 +93,16 @@ fn nearest_pairs(
     removed: &[Vec3],
     reach: f32,
 ) -> Vec<(f32, u32, u32)> {
-    let key = |p: Vec3| (p / reach).floor().as_ivec3().to_array();
-    let mut cells: FxHashMap<[i32; 3], Vec<u32>> = FxHashMap::default();
-    for &u in movable {
-        cells.entry(key(positions[u as usize])).or_default().push(u);
-    }
-    let mut pairs: Vec<(f32, u32, u32)> = Vec::new();
-    for (r, &p) in removed.iter().enumerate() {
-        let c = key(p);
-        let mut best: Option<(f32, u32)> = None;
-        for d in &NEIGHBOURS {
-            let Some(list) = cells.get(&[c[0] + d[0], c[1] + d[1], c[2] + d[2]]) else {
-                continue;
-            };
-            for &u in list {
-                let distance = positions[u as usize].distance(p);
-                let nearer = best.is_none_or(|b| (distance, u) < b);
-                if distance <= reach && nearer {
-                    best = Some((distance, u));
-                }
-            }
-        }
-        if let Some((distance, u)) = best {
-            pairs.push((distance, r as u32, u));
-        }
-    }
+    let near = Survivors::new(movable.iter().map(|&u| (u, positions[u as usize])), reach);
+    let mut pairs: Vec<(f32, u32, u32)> = removed
+        .iter()
+        .enumerate()
+        .filter_map(|(r, &p)| {
+            let u = near.nearest_within(p, reach)?;
+            let distance = positions[u as usize].distance(p);
+            (distance <= reach).then_some((distance, r as u32, u))
+        })
+        .collect();
     pairs.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
     pairs
 }

@@ -48,6 +48,13 @@ impl Survivors {
     /// The survivor nearest to `p` (ties to the lower vertex index, so the answer is
     /// deterministic); `None` when there is none.
     pub(crate) fn nearest(&self, p: Vec3) -> Option<u32> {
+        self.nearest_within(p, f32::INFINITY)
+    }
+
+    /// [`Survivors::nearest`] among the points within `within` of `p`, or one a little farther:
+    /// rings of buckets wholly beyond `within` are not searched, so a query with nothing near
+    /// costs a few rings rather than a pass over every point.
+    pub(crate) fn nearest_within(&self, p: Vec3, within: f32) -> Option<u32> {
         if self.buckets.is_empty() || !p.is_finite() {
             return None;
         }
@@ -70,6 +77,9 @@ impl Survivors {
                 && (d.sqrt() <= ring.saturating_sub(1) as f32 * self.cell
                     || d.sqrt() < self.beyond(p, centre, ring - 1))
             {
+                break;
+            }
+            if ring > 0 && self.beyond(p, centre, ring - 1) > within {
                 break;
             }
             if ring > RINGS {
@@ -138,6 +148,19 @@ mod tests {
                     .then(a.0.cmp(&b.0))
             })
             .map(|&(v, _)| v)
+    }
+
+    #[test]
+    fn a_bounded_search_stops_rings_short_of_a_far_point() {
+        let points = [
+            (0, Vec3::new(5.0, 0.0, 0.0)),
+            (1, Vec3::new(-7.0, 0.5, 0.0)),
+        ];
+        let near = Survivors::new(points, 1.0);
+        let p = Vec3::new(0.2, 0.3, 0.1);
+        assert_eq!(near.nearest(p), Some(0));
+        assert_eq!(near.nearest_within(p, 1.0), None);
+        assert_eq!(near.nearest_within(p, 6.0), Some(0));
     }
 
     #[test]

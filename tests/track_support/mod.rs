@@ -1,5 +1,6 @@
 //! What the `track_*` end-to-end tests share: the binary, a synthetic input, a `track` command with
-//! the CPU backend, and the written run's progress and files. Each test crate uses some of them.
+//! the CPU backend, and the written run's progress, files and Hausdorff distances. Each test
+//! crate uses some of them.
 
 #![allow(dead_code)]
 
@@ -28,6 +29,28 @@ pub fn track(input: &Path, out: &Path, extra: &[&str]) -> Command {
     c.arg("track").arg(input).arg("-o").arg(out);
     c.args(["--backend", "cpu", "--quiet"]).args(extra);
     c
+}
+
+/// Runs `command` quietly; panics unless it succeeds.
+pub fn run(command: &mut Command) {
+    let status = command
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .unwrap();
+    assert!(status.success(), "{command:?}");
+}
+
+/// Each frame's Hausdorff distance to its input in Δ, from the `eval.json` `eval` wrote in `out`.
+pub fn hausdorff(out: &Path) -> Vec<f64> {
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("eval.json")).unwrap()).unwrap();
+    report["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["hausdorff"].as_f64().unwrap())
+        .collect()
 }
 
 /// Frames `track.json` records as complete (0 when there is none yet).
