@@ -398,11 +398,11 @@ impl Tracker {
             &self.params,
         )
         .map_err(|e| TrackError::at(frame, e))?;
+        times.reconcile = ms(t.elapsed()) - ms(matched.improve);
         // Improvement and the re-sampling leave vertices off the target (a collapse's midpoint, a
         // move along the surface, a patch on Θ's isosurface a fraction of a cell off the input's
         // surface): they go back onto it, by the snap's rules. On the synth morph, where the hole
         // opens, a patch vertex stood 0.66 Δ inside it; now no frame is farther than 0.47 Δ.
-        times.reconcile = ms(t.elapsed()) - ms(matched.improve);
         let placed = Instant::now();
         snap::snap(backend, &mut self.mesh, &bvh, self.params.min_angle_degrees)
             .map_err(|e| TrackError::at(frame, e))?;
