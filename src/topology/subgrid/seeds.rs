@@ -197,13 +197,15 @@ fn split_changes(
         let mut parts: Vec<Vec<Cell>> = Vec::new();
         let mut tried: Vec<Vec<Range<usize>>> = Vec::with_capacity(changing.len());
         for (cells, _) in &changing {
+            let touching = Adjacent::of(cells);
             tried.push(
                 cuts(cells)
                     .into_iter()
-                    .map(|(low, high)| {
+                    .map(|(axis, plane)| {
                         let start = parts.len();
-                        parts.extend(clusters(&low));
-                        parts.extend(clusters(&high));
+                        for low in [true, false] {
+                            parts.extend(touching.clusters(|c| (c[axis] < plane) == low));
+                        }
                         start..parts.len()
                     })
                     .collect(),
@@ -231,10 +233,11 @@ fn split_changes(
     kept
 }
 
-/// The ways [`split_changes`] tries to cut `cells` in two: along each axis on which they are more
-/// than one cell wide, the planes at a half, a quarter and three quarters of their extent, the
-/// widest axis first. None where they are one cell wide in every direction.
-fn cuts(cells: &[Cell]) -> Vec<(Vec<Cell>, Vec<Cell>)> {
+/// The ways [`split_changes`] tries to cut `cells` in two, as (axis, plane): the cells below the
+/// plane on one side, the others on the other; along each axis on which they are more than one
+/// cell wide, the planes at a half, a quarter and three quarters of their extent, the widest axis
+/// first. None where they are one cell wide in every direction.
+fn cuts(cells: &[Cell]) -> Vec<(usize, i32)> {
     let (mut lo, mut hi) = ([i32::MAX; 3], [i32::MIN; 3]);
     for c in cells {
         for a in 0..3 {
@@ -253,11 +256,71 @@ fn cuts(cells: &[Cell]) -> Vec<(Vec<Cell>, Vec<Cell>)> {
             .filter(|&p| lo[axis] < p && p <= hi[axis])
             .collect();
         planes.dedup();
-        for plane in planes {
-            out.push(cells.iter().partition(|c| c[axis] < plane));
-        }
+        out.extend(planes.into_iter().map(|plane| (axis, plane)));
     }
     out
+}
+
+/// Which cells of a set touch which (26-neighbours): looked up once, so the clusters of each of
+/// the many subsets [`split_changes`] cuts a cluster into are found without searching again.
+struct Adjacent<'a> {
+    cells: &'a [Cell],
+    /// The neighbours (indices into `cells`) of cell `i`: `next[first[i]..first[i + 1]]`.
+    first: Vec<u32>,
+    next: Vec<u32>,
+}
+
+impl<'a> Adjacent<'a> {
+    /// The adjacency of `cells` (sorted, without repeats).
+    fn of(cells: &'a [Cell]) -> Self {
+        let mut first = Vec::with_capacity(cells.len() + 1);
+        let mut next = Vec::new();
+        for c in cells {
+            first.push(next.len() as u32);
+            for d in NEIGHBOURS.iter().filter(|d| **d != [0, 0, 0]) {
+                let n = [c[0] + d[0], c[1] + d[1], c[2] + d[2]];
+                if let Ok(j) = cells.binary_search(&n) {
+                    next.push(j as u32);
+                }
+            }
+        }
+        first.push(next.len() as u32);
+        Self { cells, first, next }
+    }
+
+    /// The clusters of the cells that `keep` holds, as [`clusters`] gives them: the groups that
+    /// touch, each sorted, numbered in the order of their first cell.
+    fn clusters(&self, keep: impl Fn(&Cell) -> bool) -> Vec<Vec<Cell>> {
+        const NONE: u32 = u32::MAX;
+        let kept: Vec<bool> = self.cells.iter().map(&keep).collect();
+        let mut label = vec![NONE; self.cells.len()];
+        let mut count = 0;
+        let mut stack = Vec::new();
+        for start in 0..self.cells.len() {
+            if !kept[start] || label[start] != NONE {
+                continue;
+            }
+            label[start] = count;
+            stack.push(start as u32);
+            while let Some(i) = stack.pop() {
+                let i = i as usize;
+                for &j in &self.next[self.first[i] as usize..self.first[i + 1] as usize] {
+                    if kept[j as usize] && label[j as usize] == NONE {
+                        label[j as usize] = count;
+                        stack.push(j);
+                    }
+                }
+            }
+            count += 1;
+        }
+        let mut members: Vec<Vec<Cell>> = vec![Vec::new(); count as usize];
+        for (&c, &k) in self.cells.iter().zip(&label) {
+            if k != NONE {
+                members[k as usize].push(c);
+            }
+        }
+        members
+    }
 }
 
 /// The cells of the input's edges whose ends lie nearest to different components of `ours`
@@ -468,6 +531,32 @@ mod tests {
             split_changes(&frame, vec![(single.clone(), 1)], &zone, (&ours, &input)),
             vec![single]
         );
+    }
+
+    /// Every cut's sides fall into the clusters that `clusters` finds for them anew.
+    #[test]
+    fn the_sides_of_a_cut_cluster_as_clusters_finds_them() {
+        // A ring, a bar through it and scattered cells: cuts split them into several pieces.
+        let mut cells: Vec<Cell> = Vec::new();
+        for k in 0..40 {
+            let a = k as f32 * std::f32::consts::TAU / 40.0;
+            cells.push([(8.0 * a.cos()) as i32, (8.0 * a.sin()) as i32, 0]);
+        }
+        cells.extend((-10..10).map(|x| [x, 0, x / 4]));
+        cells.extend([[20, 20, 20], [21, 21, 21], [25, 20, 20]]);
+        cells.sort_unstable();
+        cells.dedup();
+        let touching = Adjacent::of(&cells);
+        let planes = cuts(&cells);
+        assert!(planes.len() >= 6);
+        for (axis, plane) in planes {
+            for low in [true, false] {
+                let side = |c: &Cell| (c[axis] < plane) == low;
+                let subset: Vec<Cell> = cells.iter().copied().filter(side).collect();
+                assert_eq!(touching.clusters(side), clusters(&subset));
+            }
+        }
+        assert_eq!(touching.clusters(|_| true), clusters(&cells));
     }
 
     #[test]
