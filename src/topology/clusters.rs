@@ -3,6 +3,7 @@
 //! replacement changes χ) from a change of shape only (paper §4.3: only differences that change
 //! the topology should re-sample the surface).
 
+use rayon::prelude::*;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::keys::{Cell, NEIGHBOURS};
@@ -87,4 +88,112 @@ pub(crate) fn euler(mesh: &IndexedMesh, triangles: &[u32]) -> i64 {
         }
     }
     vertices.len() as i64 - edges.len() as i64 + triangles.len() as i64
+}
+
+/// The edges of a mesh's triangles, numbered: edge `of[3t + k]` runs from corner `k` of
+/// triangle `t` to corner `k + 1`, and the two triangles of an edge share its number.
+pub(crate) struct EdgeNumbers {
+    of: Vec<u32>,
+    count: usize,
+}
+
+impl EdgeNumbers {
+    pub fn of(mesh: &IndexedMesh) -> Self {
+        let mut ends: Vec<(u64, u32)> = mesh
+            .triangles
+            .par_iter()
+            .enumerate()
+            .flat_map_iter(|(t, tri)| {
+                (0..3).map(move |k| {
+                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                    let key = (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
+                    (key, (3 * t + k) as u32)
+                })
+            })
+            .collect();
+        ends.par_sort_unstable();
+        let mut of = vec![0u32; ends.len()];
+        let mut count = 0usize;
+        for (i, &(key, slot)) in ends.iter().enumerate() {
+            if i > 0 && ends[i - 1].0 != key {
+                count += 1;
+            }
+            of[slot as usize] = count as u32;
+        }
+        let count = if ends.is_empty() { 0 } else { count + 1 };
+        Self { of, count }
+    }
+}
+
+/// [`euler`] of each list of triangles of `mesh` (edges numbered by `edges`): each vertex and
+/// edge is counted once per list by marking it with the list's number, instead of hashing.
+pub(crate) fn eulers(mesh: &IndexedMesh, edges: &EdgeNumbers, lists: &[Vec<u32>]) -> Vec<i64> {
+    lists
+        .par_iter()
+        .enumerate()
+        .map_init(
+            || {
+                (
+                    vec![u32::MAX; mesh.positions.len()],
+                    vec![u32::MAX; edges.count],
+                )
+            },
+            |(vertex_mark, edge_mark), (k, triangles)| {
+                let mark = k as u32;
+                let (mut vertices, mut edge_count) = (0i64, 0i64);
+                for &t in triangles {
+                    let tri = mesh.triangles[t as usize];
+                    for (c, &v) in tri.iter().enumerate() {
+                        if std::mem::replace(&mut vertex_mark[v as usize], mark) != mark {
+                            vertices += 1;
+                        }
+                        let e = edges.of[3 * t as usize + c] as usize;
+                        if std::mem::replace(&mut edge_mark[e], mark) != mark {
+                            edge_count += 1;
+                        }
+                    }
+                }
+                vertices - edge_count + triangles.len() as i64
+            },
+        )
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    /// Marking gives what hashing gives: a whole sphere (2), caps (1), a band (0), a lone
+    /// triangle (1), nothing (0), and lists sharing vertices with one another.
+    #[test]
+    fn marked_counts_are_hashed_counts() {
+        let sphere = IndexedMesh::icosphere(Vec3::ZERO, 1.0, 3);
+        let z = |t: &[u32; 3]| {
+            t.iter()
+                .map(|&v| sphere.positions[v as usize].z)
+                .sum::<f32>()
+                / 3.0
+        };
+        let all: Vec<u32> = (0..sphere.triangles.len() as u32).collect();
+        let pick = |keep: &dyn Fn(f32) -> bool| -> Vec<u32> {
+            all.iter()
+                .copied()
+                .filter(|&t| keep(z(&sphere.triangles[t as usize])))
+                .collect()
+        };
+        let lists = vec![
+            all.clone(),
+            pick(&|z| z > 0.5),
+            pick(&|z| z.abs() < 0.3),
+            pick(&|z| z < -0.2),
+            vec![7],
+            Vec::new(),
+            all.iter().copied().step_by(3).collect(),
+        ];
+        let edges = EdgeNumbers::of(&sphere);
+        let hashed: Vec<i64> = lists.iter().map(|l| euler(&sphere, l)).collect();
+        assert_eq!(eulers(&sphere, &edges, &lists), hashed);
+        assert_eq!(&hashed[..6], &[2, 1, 0, 1, 1, 0]);
+    }
 }

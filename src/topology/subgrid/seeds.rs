@@ -39,7 +39,7 @@ use crate::grid::{GridFrame, LatticeMesh, cross_axes, rasterize};
 use crate::mesh::IndexedMesh;
 use crate::topology::cell;
 use crate::topology::classify::dilate;
-use crate::topology::clusters::{clusters, euler, touching};
+use crate::topology::clusters::{EdgeNumbers, clusters, eulers, touching};
 use crate::topology::keys::{Cell, NEIGHBOURS, PARALLEL_EDGES};
 use crate::topology::nearest::Survivors;
 
@@ -382,19 +382,33 @@ struct Placed<'a> {
     mesh: &'a IndexedMesh,
     cells: Vec<Cell>,
     of: Vec<u32>,
+    /// The mesh's edges, numbered for counting the characteristics of many patches at once
+    /// (`eulers`).
+    edges: EdgeNumbers,
 }
 
 impl<'a> Placed<'a> {
     fn new(frame: &GridFrame, mesh: &'a IndexedMesh) -> Self {
-        let at: Vec<Cell> = mesh.positions.par_iter().map(|&p| cell(frame, p)).collect();
-        let mut cells = at.clone();
-        cells.par_sort_unstable();
-        cells.dedup();
-        let of = at
-            .par_iter()
-            .map(|c| cells.partition_point(|x| x < c) as u32)
-            .collect();
-        Placed { mesh, cells, of }
+        let ((cells, of), edges) = rayon::join(
+            || {
+                let at: Vec<Cell> = mesh.positions.par_iter().map(|&p| cell(frame, p)).collect();
+                let mut cells = at.clone();
+                cells.par_sort_unstable();
+                cells.dedup();
+                let of = at
+                    .par_iter()
+                    .map(|c| cells.partition_point(|x| x < c) as u32)
+                    .collect();
+                (cells, of)
+            },
+            || EdgeNumbers::of(mesh),
+        );
+        Placed {
+            mesh,
+            cells,
+            of,
+            edges,
+        }
     }
 
     /// Per distinct cell, the clusters holding it once grown by one: those with a cell among
@@ -449,11 +463,11 @@ fn euler_changes(clusters: &[Vec<Cell>], (ours, input): (&Placed, &Placed)) -> V
             copied
         },
     );
-    removed
-        .par_iter()
-        .zip(&copied)
-        .map(|(r, c)| euler(input.mesh, c) - euler(ours.mesh, r))
-        .collect()
+    let (copied, removed) = rayon::join(
+        || eulers(input.mesh, &input.edges, &copied),
+        || eulers(ours.mesh, &ours.edges, &removed),
+    );
+    copied.iter().zip(&removed).map(|(c, r)| c - r).collect()
 }
 
 #[cfg(test)]
