@@ -13,8 +13,9 @@
 use glam::Vec3;
 
 use crate::compute::Backend;
-use crate::mesh::{FaceId, Mesh, VertexId, min_angle_degrees};
+use crate::mesh::{Mesh, VertexId, min_angle_degrees};
 use crate::project::{Bvh, ProjectError, closest_points};
+use rayon::prelude::*;
 
 /// How far a vertex may move, in the target's mean edge lengths.
 pub const REACH: f32 = 1.0;
@@ -38,27 +39,41 @@ pub fn snap(
             moved[v.0 as usize] = Some(n.point);
         }
     }
-    let faces: Vec<FaceId> = mesh.faces().collect();
+    let corners: Vec<[VertexId; 3]> = mesh.faces().map(|f| mesh.face_vertices(f)).collect();
+    let moves = |corners: &[VertexId; 3], moved: &[Option<Vec3>]| {
+        corners.iter().any(|v| moved[v.0 as usize].is_some())
+    };
+    let spoiled = |corners: &[VertexId; 3], moved: &[Option<Vec3>]| {
+        let before = corners.map(|v| mesh.position(v));
+        let after = corners.map(|v| moved[v.0 as usize].unwrap_or(mesh.position(v)));
+        let normal = |p: [Vec3; 3]| (p[1] - p[0]).cross(p[2] - p[0]);
+        let angle_before = min_angle_degrees(before[0], before[1], before[2]);
+        let angle_after = min_angle_degrees(after[0], after[1], after[2]);
+        normal(before).dot(normal(after)) <= 0.0 || angle_after < min_angle.min(angle_before)
+    };
     // Undoing a move can spoil a triangle whose other corners moved; every round undoes at least
-    // one move until none spoils a triangle (at worst, none is left).
+    // one move until none spoils a triangle (at worst, none is left). The triangles are judged in
+    // order, each by the moves left when its turn comes: a round judges them all at its start on
+    // every core, and judges again in turn only those with a corner undone since.
+    let mut undone_at = vec![false; slots];
     loop {
+        let judged: Vec<bool> = corners
+            .par_iter()
+            .map(|c| moves(c, &moved) && spoiled(c, &moved))
+            .collect();
+        undone_at.iter_mut().for_each(|u| *u = false);
         let mut undone = false;
-        for &f in &faces {
-            let corners = mesh.face_vertices(f);
-            if corners.iter().all(|v| moved[v.0 as usize].is_none()) {
-                continue;
-            }
-            let before = corners.map(|v| mesh.position(v));
-            let after = corners.map(|v| moved[v.0 as usize].unwrap_or(mesh.position(v)));
-            let normal = |p: [Vec3; 3]| (p[1] - p[0]).cross(p[2] - p[0]);
-            let angle_before = min_angle_degrees(before[0], before[1], before[2]);
-            let angle_after = min_angle_degrees(after[0], after[1], after[2]);
-            let spoiled = normal(before).dot(normal(after)) <= 0.0
-                || angle_after < min_angle.min(angle_before);
-            if spoiled {
-                for v in corners {
+        for (c, &was) in corners.iter().zip(&judged) {
+            let now = if c.iter().any(|v| undone_at[v.0 as usize]) {
+                moves(c, &moved) && spoiled(c, &moved)
+            } else {
+                was
+            };
+            if now {
+                for v in c {
                     if moved[v.0 as usize].take().is_some() {
                         undone = true;
+                        undone_at[v.0 as usize] = true;
                     }
                 }
             }
