@@ -21,6 +21,8 @@
 //! the surface it comes from), so every vertex of every frame holds a value and a constant stays
 //! constant. Only when nothing survives are the events left without rules.
 
+use std::cell::OnceCell;
+
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -163,15 +165,22 @@ pub(crate) fn record(
             })
             .collect()
     };
-    let survivors = Survivors::new(
-        built
-            .points
-            .iter()
-            .enumerate()
-            .filter(|(_, p)| matches!(p, Point::Vertex(_)))
-            .map(|(i, _)| (i as u32, built.mesh.positions[i])),
-        grid.frame().spacing(),
-    );
+    // The vertices no march reaches (a patch with no boundary) read the nearest survivor; most
+    // patches have a boundary, so the survivors' grid is built only where one does not.
+    let survivors = OnceCell::new();
+    let survivors = || {
+        survivors.get_or_init(|| {
+            Survivors::new(
+                built
+                    .points
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, p)| matches!(p, Point::Vertex(_)))
+                    .map(|(i, _)| (i as u32, built.mesh.positions[i])),
+                grid.frame().spacing(),
+            )
+        })
+    };
     // Going backward, a deleted vertex reads the new patch at its closest point.
     let patch = Transfer::new(
         &built.mesh.positions,
@@ -200,8 +209,11 @@ pub(crate) fn record(
         .copied()
         .filter(|d| !reached.contains(d))
         .collect();
-    let sources =
-        survivors.nearest_each(unreached.par_iter().map(|&d| input.positions[d as usize]));
+    let sources = if unreached.is_empty() {
+        Vec::new()
+    } else {
+        survivors().nearest_each(unreached.par_iter().map(|&d| input.positions[d as usize]))
+    };
     for (d, source) in unreached.into_iter().zip(sources) {
         deletions.push(Mutation::PatchDeleted {
             deleted: input_ids[d as usize],
@@ -282,11 +294,15 @@ pub(crate) fn record(
         .copied()
         .filter(|v| !reached.contains(v))
         .collect();
-    let sources = survivors.nearest_each(
-        unreached
-            .par_iter()
-            .map(|&v| built.mesh.positions[v as usize]),
-    );
+    let sources = if unreached.is_empty() {
+        Vec::new()
+    } else {
+        survivors().nearest_each(
+            unreached
+                .par_iter()
+                .map(|&v| built.mesh.positions[v as usize]),
+        )
+    };
     for (v, source) in unreached.into_iter().zip(sources) {
         record.push(Mutation::PatchCreated {
             created: ids[v as usize],
