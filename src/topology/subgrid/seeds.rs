@@ -126,11 +126,18 @@ pub(super) fn seeds(
     around_edges.sort_unstable();
     around_edges.dedup();
     let found = clusters(&around_edges);
+    let grown: Vec<Vec<Cell>> = found.iter().map(|m| dilate(m, 1)).collect();
+    // Only the triangles with a corner in a grown cluster count in any cluster's change.
+    let around: FxHashSet<Cell> = grown.iter().flatten().copied().collect();
+    let (ours, input) = rayon::join(
+        || in_zone(frame, ours, &around),
+        || in_zone(frame, input, &around),
+    );
+    let (ours, input) = (&ours, &input);
     let changes = euler_changes(
         &found,
         (&Placed::new(frame, ours), &Placed::new(frame, input)),
     );
-    let grown: Vec<Vec<Cell>> = found.iter().map(|m| dilate(m, 1)).collect();
     let (mut changing, mut all) = (selected.clone(), selected.clone());
     let mut changes_of = Vec::new();
     let mut zone: FxHashSet<Cell> = FxHashSet::default();
@@ -177,18 +184,10 @@ fn split_changes(
     zone: &FxHashSet<Cell>,
     (ours, input): (&IndexedMesh, &IndexedMesh),
 ) -> Vec<Vec<Cell>> {
-    let near = |mesh: &IndexedMesh| -> IndexedMesh {
-        let touching: Vec<u32> = (0..mesh.triangles.len() as u32)
-            .into_par_iter()
-            .filter(|&t| {
-                mesh.triangles[t as usize]
-                    .iter()
-                    .any(|&v| zone.contains(&cell(frame, mesh.positions[v as usize])))
-            })
-            .collect();
-        submesh(mesh, &touching)
-    };
-    let (ours, input) = (near(ours), near(input));
+    let (ours, input) = rayon::join(
+        || in_zone(frame, ours, zone),
+        || in_zone(frame, input, zone),
+    );
     let placed = (&Placed::new(frame, &ours), &Placed::new(frame, &input));
     let mut kept: Vec<Vec<Cell>> = Vec::new();
     while !changing.is_empty() {
@@ -231,6 +230,25 @@ fn split_changes(
         changing = next;
     }
     kept
+}
+
+/// The triangles of `mesh` with a corner in a cell of `zone`, as a mesh of their own: the only
+/// ones that count in the change of χ of a cluster that lies in `zone` once grown by one.
+fn in_zone(frame: &GridFrame, mesh: &IndexedMesh, zone: &FxHashSet<Cell>) -> IndexedMesh {
+    let inside: Vec<bool> = mesh
+        .positions
+        .par_iter()
+        .map(|&p| zone.contains(&cell(frame, p)))
+        .collect();
+    let touching: Vec<u32> = (0..mesh.triangles.len() as u32)
+        .into_par_iter()
+        .filter(|&t| {
+            mesh.triangles[t as usize]
+                .iter()
+                .any(|&v| inside[v as usize])
+        })
+        .collect();
+    submesh(mesh, &touching)
 }
 
 /// The ways [`split_changes`] tries to cut `cells` in two, as (axis, plane): the cells below the
