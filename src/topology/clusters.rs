@@ -12,33 +12,69 @@ use crate::mesh::IndexedMesh;
 /// The clusters of `cells` (sorted, without repeats): the groups of cells that touch
 /// (26-neighbours), each sorted, numbered in the order of their first cell.
 pub(crate) fn clusters(cells: &[Cell]) -> Vec<Vec<Cell>> {
-    const NONE: u32 = u32::MAX;
-    let mut label = vec![NONE; cells.len()];
-    let mut count = 0;
-    let index = |c: &Cell| cells.binary_search(c).ok();
-    for start in 0..cells.len() {
-        if label[start] != NONE {
-            continue;
-        }
-        label[start] = count;
-        let mut stack = vec![start];
-        while let Some(i) = stack.pop() {
-            let c = cells[i];
-            for d in NEIGHBOURS {
+    Adjacent::of(cells).clusters(|_| true)
+}
+
+/// Which cells of a set touch which (26-neighbours): looked up once, so the clusters of each of
+/// the many subsets a cluster is cut into (`subgrid::seeds`) are found without searching again.
+pub(crate) struct Adjacent<'a> {
+    cells: &'a [Cell],
+    /// The neighbours (indices into `cells`) of cell `i`: `next[first[i]..first[i + 1]]`.
+    first: Vec<u32>,
+    next: Vec<u32>,
+}
+
+impl<'a> Adjacent<'a> {
+    /// The adjacency of `cells` (sorted, without repeats).
+    pub fn of(cells: &'a [Cell]) -> Self {
+        let mut first = Vec::with_capacity(cells.len() + 1);
+        let mut next = Vec::new();
+        for c in cells {
+            first.push(next.len() as u32);
+            for d in NEIGHBOURS.iter().filter(|d| **d != [0, 0, 0]) {
                 let n = [c[0] + d[0], c[1] + d[1], c[2] + d[2]];
-                if let Some(j) = index(&n).filter(|&j| label[j] == NONE) {
-                    label[j] = count;
-                    stack.push(j);
+                if let Ok(j) = cells.binary_search(&n) {
+                    next.push(j as u32);
                 }
             }
         }
-        count += 1;
+        first.push(next.len() as u32);
+        Self { cells, first, next }
     }
-    let mut members: Vec<Vec<Cell>> = vec![Vec::new(); count as usize];
-    for (&c, &k) in cells.iter().zip(&label) {
-        members[k as usize].push(c);
+
+    /// The clusters of the cells that `keep` holds, the groups that touch, each sorted, numbered
+    /// in the order of their first cell.
+    pub fn clusters(&self, keep: impl Fn(&Cell) -> bool) -> Vec<Vec<Cell>> {
+        const NONE: u32 = u32::MAX;
+        let kept: Vec<bool> = self.cells.iter().map(&keep).collect();
+        let mut label = vec![NONE; self.cells.len()];
+        let mut count = 0;
+        let mut stack = Vec::new();
+        for start in 0..self.cells.len() {
+            if !kept[start] || label[start] != NONE {
+                continue;
+            }
+            label[start] = count;
+            stack.push(start as u32);
+            while let Some(i) = stack.pop() {
+                let i = i as usize;
+                for &j in &self.next[self.first[i] as usize..self.first[i + 1] as usize] {
+                    if kept[j as usize] && label[j as usize] == NONE {
+                        label[j as usize] = count;
+                        stack.push(j);
+                    }
+                }
+            }
+            count += 1;
+        }
+        let mut members: Vec<Vec<Cell>> = vec![Vec::new(); count as usize];
+        for (&c, &k) in self.cells.iter().zip(&label) {
+            if k != NONE {
+                members[k as usize].push(c);
+            }
+        }
+        members
     }
-    members
 }
 
 /// For every cell of the clusters `grown` (each a list of cells), the clusters holding it.

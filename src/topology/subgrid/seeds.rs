@@ -39,7 +39,7 @@ use crate::grid::{GridFrame, LatticeMesh, cross_axes, rasterize};
 use crate::mesh::IndexedMesh;
 use crate::topology::cell;
 use crate::topology::classify::dilate;
-use crate::topology::clusters::{EdgeNumbers, clusters, eulers, touching};
+use crate::topology::clusters::{Adjacent, EdgeNumbers, clusters, eulers, touching};
 use crate::topology::keys::{Cell, NEIGHBOURS, PARALLEL_EDGES};
 use crate::topology::nearest::Survivors;
 
@@ -279,68 +279,6 @@ fn cuts(cells: &[Cell]) -> Vec<(usize, i32)> {
     out
 }
 
-/// Which cells of a set touch which (26-neighbours): looked up once, so the clusters of each of
-/// the many subsets [`split_changes`] cuts a cluster into are found without searching again.
-struct Adjacent<'a> {
-    cells: &'a [Cell],
-    /// The neighbours (indices into `cells`) of cell `i`: `next[first[i]..first[i + 1]]`.
-    first: Vec<u32>,
-    next: Vec<u32>,
-}
-
-impl<'a> Adjacent<'a> {
-    /// The adjacency of `cells` (sorted, without repeats).
-    fn of(cells: &'a [Cell]) -> Self {
-        let mut first = Vec::with_capacity(cells.len() + 1);
-        let mut next = Vec::new();
-        for c in cells {
-            first.push(next.len() as u32);
-            for d in NEIGHBOURS.iter().filter(|d| **d != [0, 0, 0]) {
-                let n = [c[0] + d[0], c[1] + d[1], c[2] + d[2]];
-                if let Ok(j) = cells.binary_search(&n) {
-                    next.push(j as u32);
-                }
-            }
-        }
-        first.push(next.len() as u32);
-        Self { cells, first, next }
-    }
-
-    /// The clusters of the cells that `keep` holds, as [`clusters`] gives them: the groups that
-    /// touch, each sorted, numbered in the order of their first cell.
-    fn clusters(&self, keep: impl Fn(&Cell) -> bool) -> Vec<Vec<Cell>> {
-        const NONE: u32 = u32::MAX;
-        let kept: Vec<bool> = self.cells.iter().map(&keep).collect();
-        let mut label = vec![NONE; self.cells.len()];
-        let mut count = 0;
-        let mut stack = Vec::new();
-        for start in 0..self.cells.len() {
-            if !kept[start] || label[start] != NONE {
-                continue;
-            }
-            label[start] = count;
-            stack.push(start as u32);
-            while let Some(i) = stack.pop() {
-                let i = i as usize;
-                for &j in &self.next[self.first[i] as usize..self.first[i + 1] as usize] {
-                    if kept[j as usize] && label[j as usize] == NONE {
-                        label[j as usize] = count;
-                        stack.push(j);
-                    }
-                }
-            }
-            count += 1;
-        }
-        let mut members: Vec<Vec<Cell>> = vec![Vec::new(); count as usize];
-        for (&c, &k) in self.cells.iter().zip(&label) {
-            if k != NONE {
-                members[k as usize].push(c);
-            }
-        }
-        members
-    }
-}
-
 /// The cells of the input's edges whose ends lie nearest to different components of `ours`
 /// (none when `ours` is one component).
 fn bridges(frame: &GridFrame, ours: &IndexedMesh, input: &IndexedMesh) -> Vec<Cell> {
@@ -568,6 +506,33 @@ mod tests {
     /// Every cut's sides fall into the clusters that `clusters` finds for them anew.
     #[test]
     fn the_sides_of_a_cut_cluster_as_clusters_finds_them() {
+        // The groups of touching cells found by comparing every pair, sorted and numbered by
+        // their first cell: what `clusters` must give, found without it.
+        let compared = |cells: &[Cell]| -> Vec<Vec<Cell>> {
+            let touch = |a: &Cell, b: &Cell| (0..3).all(|k| (a[k] - b[k]).abs() <= 1);
+            let mut label: Vec<Option<usize>> = vec![None; cells.len()];
+            let mut groups: Vec<Vec<Cell>> = Vec::new();
+            for start in 0..cells.len() {
+                if label[start].is_some() {
+                    continue;
+                }
+                label[start] = Some(groups.len());
+                let mut stack = vec![start];
+                while let Some(i) = stack.pop() {
+                    for j in 0..cells.len() {
+                        if label[j].is_none() && touch(&cells[i], &cells[j]) {
+                            label[j] = Some(groups.len());
+                            stack.push(j);
+                        }
+                    }
+                }
+                groups.push(Vec::new());
+            }
+            for (c, k) in cells.iter().zip(label) {
+                groups[k.unwrap_or(0)].push(*c);
+            }
+            groups
+        };
         // A ring, a bar through it and scattered cells: cuts split them into several pieces.
         let mut cells: Vec<Cell> = Vec::new();
         for k in 0..40 {
@@ -585,10 +550,12 @@ mod tests {
             for low in [true, false] {
                 let side = |c: &Cell| (c[axis] < plane) == low;
                 let subset: Vec<Cell> = cells.iter().copied().filter(side).collect();
-                assert_eq!(touching.clusters(side), clusters(&subset));
+                assert_eq!(touching.clusters(side), compared(&subset));
+                assert_eq!(clusters(&subset), compared(&subset));
             }
         }
-        assert_eq!(touching.clusters(|_| true), clusters(&cells));
+        assert_eq!(touching.clusters(|_| true), compared(&cells));
+        assert_eq!(clusters(&cells), compared(&cells));
     }
 
     #[test]
