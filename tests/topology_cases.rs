@@ -68,8 +68,13 @@ fn checked(kind: Kind, mesh: IndexedMesh, theta: Field) -> Outcome {
 
 /// The result of one call, to call again on.
 fn after(mesh: &IndexedMesh, theta: &Field) -> IndexedMesh {
+    after_with(mesh, theta, &TopologyOptions::default())
+}
+
+/// [`after`] with `options`.
+fn after_with(mesh: &IndexedMesh, theta: &Field, options: &TopologyOptions) -> IndexedMesh {
     let mut m = Mesh::from_indexed(mesh).unwrap();
-    constrain_topology(&mut m, theta, &TopologyOptions::default()).unwrap();
+    constrain_topology(&mut m, theta, options).unwrap();
     m.to_indexed()
 }
 
@@ -116,13 +121,11 @@ fn patch_vertices_standing_on_the_vertices_they_replace_continue_them() {
     // The patch between the merging balls re-samples both sides of the neck.
     let (m, target) = merging_balls();
     let run = |continue_within: f32| {
-        let mut mesh = Mesh::from_indexed(&m).unwrap();
         let options = TopologyOptions {
             continue_within,
             ..TopologyOptions::default()
         };
-        constrain_topology(&mut mesh, &target, &options).unwrap();
-        mesh.to_indexed()
+        after_with(&m, &target, &options)
     };
     let (paper, continued) = (run(0.0), run(0.25));
     // The same surface; only the ids differ.
@@ -168,13 +171,11 @@ fn patch_vertices_move_onto_the_carried_vertices_they_replace() {
     let bar = |p: Vec3| Vec2::new(p.y - 0.15, p.z).length() - 1.3;
     let theta = sampled(union(balls(), bar));
     let run = |moves: Moves| {
-        let mut mesh = Mesh::from_indexed(&m).unwrap();
         let options = TopologyOptions {
             moves,
             ..TopologyOptions::default()
         };
-        constrain_topology(&mut mesh, &theta, &options).unwrap();
-        mesh.to_indexed()
+        after_with(&m, &theta, &options)
     };
     let every = Moves {
         carried_below: u64::MAX,

@@ -408,8 +408,8 @@ fn verify(
 /// Moves new vertices of the fill onto the carried input vertices the patch removes
 /// (`move_onto`), where the options ask for it; cut points stay on the cut.
 fn move_fill(built: &mut Built, input: &IndexedMesh, (spacing, options): (f32, &TopologyOptions)) {
-    let moves = options.moves;
-    if moves.carried_below == 0 || options.continue_within <= 0.0 {
+    let moves = options.moves.where_continuing(options.continue_within);
+    if moves.carried_below == 0 {
         return;
     }
     let mut kept = vec![false; input.positions.len()];

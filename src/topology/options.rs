@@ -45,6 +45,19 @@ pub struct Moves {
     pub longest_edge: f32,
 }
 
+impl Moves {
+    /// These moves where a moved vertex can continue the removed one it stands on
+    /// (`continue_within` above 0); none where it cannot, since a move would then only reshape
+    /// the new surface.
+    pub fn where_continuing(self, continue_within: f32) -> Moves {
+        if continue_within <= 0.0 {
+            Moves::default()
+        } else {
+            self
+        }
+    }
+}
+
 impl Default for TopologyOptions {
     fn default() -> Self {
         Self {

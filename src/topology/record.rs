@@ -168,18 +168,23 @@ pub(crate) fn record(
     // The vertices no march reaches (a patch with no boundary) read the nearest survivor; most
     // patches have a boundary, so the survivors' grid is built only where one does not.
     let survivors = OnceCell::new();
-    let survivors = || {
-        survivors.get_or_init(|| {
-            Survivors::new(
-                built
-                    .points
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, p)| matches!(p, Point::Vertex(_)))
-                    .map(|(i, _)| (i as u32, built.mesh.positions[i])),
-                grid.frame().spacing(),
-            )
-        })
+    let nearest_survivors = |points: Vec<Vec3>| -> Vec<Option<u32>> {
+        if points.is_empty() {
+            return Vec::new();
+        }
+        survivors
+            .get_or_init(|| {
+                Survivors::new(
+                    built
+                        .points
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, p)| matches!(p, Point::Vertex(_)))
+                        .map(|(i, _)| (i as u32, built.mesh.positions[i])),
+                    grid.frame().spacing(),
+                )
+            })
+            .nearest_each(points.into_par_iter())
     };
     // Going backward, a deleted vertex reads the new patch at its closest point.
     let patch = Transfer::new(
@@ -209,11 +214,12 @@ pub(crate) fn record(
         .copied()
         .filter(|d| !reached.contains(d))
         .collect();
-    let sources = if unreached.is_empty() {
-        Vec::new()
-    } else {
-        survivors().nearest_each(unreached.par_iter().map(|&d| input.positions[d as usize]))
-    };
+    let sources = nearest_survivors(
+        unreached
+            .iter()
+            .map(|&d| input.positions[d as usize])
+            .collect(),
+    );
     for (d, source) in unreached.into_iter().zip(sources) {
         deletions.push(Mutation::PatchDeleted {
             deleted: input_ids[d as usize],
@@ -294,15 +300,12 @@ pub(crate) fn record(
         .copied()
         .filter(|v| !reached.contains(v))
         .collect();
-    let sources = if unreached.is_empty() {
-        Vec::new()
-    } else {
-        survivors().nearest_each(
-            unreached
-                .par_iter()
-                .map(|&v| built.mesh.positions[v as usize]),
-        )
-    };
+    let sources = nearest_survivors(
+        unreached
+            .iter()
+            .map(|&v| built.mesh.positions[v as usize])
+            .collect(),
+    );
     for (v, source) in unreached.into_iter().zip(sources) {
         record.push(Mutation::PatchCreated {
             created: ids[v as usize],

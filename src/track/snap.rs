@@ -40,10 +40,11 @@ pub fn snap(
         }
     }
     let corners: Vec<[VertexId; 3]> = mesh.faces().map(|f| mesh.face_vertices(f)).collect();
-    let moves = |corners: &[VertexId; 3], moved: &[Option<Vec3>]| {
-        corners.iter().any(|v| moved[v.0 as usize].is_some())
-    };
+    // Whether the moves left spoil the triangle: one with no corner moved is never spoiled.
     let spoiled = |corners: &[VertexId; 3], moved: &[Option<Vec3>]| {
+        if corners.iter().all(|v| moved[v.0 as usize].is_none()) {
+            return false;
+        }
         let before = corners.map(|v| mesh.position(v));
         let after = corners.map(|v| moved[v.0 as usize].unwrap_or(mesh.position(v)));
         let normal = |p: [Vec3; 3]| (p[1] - p[0]).cross(p[2] - p[0]);
@@ -57,15 +58,12 @@ pub fn snap(
     // every core, and judges again in turn only those with a corner undone since.
     let mut undone_at = vec![false; slots];
     loop {
-        let judged: Vec<bool> = corners
-            .par_iter()
-            .map(|c| moves(c, &moved) && spoiled(c, &moved))
-            .collect();
+        let judged: Vec<bool> = corners.par_iter().map(|c| spoiled(c, &moved)).collect();
         undone_at.iter_mut().for_each(|u| *u = false);
         let mut undone = false;
         for (c, &was) in corners.iter().zip(&judged) {
             let now = if c.iter().any(|v| undone_at[v.0 as usize]) {
-                moves(c, &moved) && spoiled(c, &moved)
+                spoiled(c, &moved)
             } else {
                 was
             };

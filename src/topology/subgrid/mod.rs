@@ -188,8 +188,7 @@ fn match_against(
         carry,
         moves: match fidelity {
             Fidelity::InputWhole => Moves::default(),
-            _ if continue_within <= 0.0 => Moves::default(),
-            _ => moves,
+            _ => moves.where_continuing(continue_within),
         },
     };
     let matched = matching::match_components(
