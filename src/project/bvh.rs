@@ -7,7 +7,7 @@ use super::gpu::GpuBvh;
 use super::shading::{Shading, mean_edge_length};
 use super::{ProjectError, triangle_bounds};
 use crate::compute::{Backend, ComputeError, GpuContext};
-use crate::kernels::shared::{BvhChild, BvhNode, BvhTriangle, NormalTriple, PseudoNormals};
+use crate::kernels::shared::{Aabb, BvhChild, BvhNode, BvhTriangle, NormalTriple, PseudoNormals};
 use crate::mesh::{IndexedMesh, MeshError};
 
 /// A bounding volume hierarchy over one target frame, with what the queries report at a hit.
@@ -49,40 +49,7 @@ impl Bvh {
     }
 
     fn build_with(mesh: &IndexedMesh, normals: Normals) -> Result<Bvh, ProjectError> {
-        if mesh.triangles.is_empty() {
-            return Err(ProjectError::Target(MeshError::Empty));
-        }
-        if mesh.triangles.len() >= u32::MAX as usize {
-            return Err(ProjectError::TooManyTriangles {
-                triangles: mesh.triangles.len(),
-                max: u32::MAX as usize - 1,
-            });
-        }
-        if let Some((vertex, p)) = mesh
-            .positions
-            .par_iter()
-            .enumerate()
-            .find_first(|(_, p)| !p.is_finite())
-        {
-            return Err(ProjectError::Target(MeshError::NonFiniteCoordinate {
-                vertex,
-                position: p.to_array(),
-            }));
-        }
-        let boxes = triangle_bounds(&Backend::Cpu, &mesh.positions, &mesh.triangles).map_err(
-            |e| match e {
-                ComputeError::IndexOutOfRange {
-                    triangle,
-                    vertex,
-                    count,
-                } => ProjectError::Target(MeshError::IndexOutOfRange {
-                    triangle,
-                    vertex,
-                    count,
-                }),
-                other => ProjectError::Compute(other),
-            },
-        )?;
+        let boxes = checked_bounds(mesh)?;
         let (tree, shading) = rayon::join(
             || build::build(&boxes),
             || match normals {
@@ -168,6 +135,44 @@ impl Bvh {
 
     /// Most triangles in one leaf.
     pub const MAX_LEAF_TRIANGLES: usize = MAX_LEAF;
+}
+
+/// The box of every triangle of `mesh`, once it is known to have at least one triangle, fewer
+/// than `u32::MAX`, indices in range and finite coordinates: what every surface the queries
+/// search must have.
+pub(super) fn checked_bounds(mesh: &IndexedMesh) -> Result<Vec<Aabb>, ProjectError> {
+    if mesh.triangles.is_empty() {
+        return Err(ProjectError::Target(MeshError::Empty));
+    }
+    if mesh.triangles.len() >= u32::MAX as usize {
+        return Err(ProjectError::TooManyTriangles {
+            triangles: mesh.triangles.len(),
+            max: u32::MAX as usize - 1,
+        });
+    }
+    if let Some((vertex, p)) = mesh
+        .positions
+        .par_iter()
+        .enumerate()
+        .find_first(|(_, p)| !p.is_finite())
+    {
+        return Err(ProjectError::Target(MeshError::NonFiniteCoordinate {
+            vertex,
+            position: p.to_array(),
+        }));
+    }
+    triangle_bounds(&Backend::Cpu, &mesh.positions, &mesh.triangles).map_err(|e| match e {
+        ComputeError::IndexOutOfRange {
+            triangle,
+            vertex,
+            count,
+        } => ProjectError::Target(MeshError::IndexOutOfRange {
+            triangle,
+            vertex,
+            count,
+        }),
+        other => ProjectError::Compute(other),
+    })
 }
 
 /// Whether a build computes the normals that sign distances and shade hits.

@@ -21,6 +21,7 @@
 mod build;
 mod bvh;
 mod cast;
+mod cells;
 pub mod cpu;
 mod directions;
 mod error;
@@ -39,6 +40,7 @@ pub use crate::kernels::shared::{
     Status,
 };
 pub use bvh::Bvh;
+pub use cells::Cells;
 pub use error::ProjectError;
 pub use gpu::{GpuBvh, GpuQueries, GpuTriangleBounds};
 pub use options::ProjectOptions;

@@ -109,16 +109,16 @@ fn finish(bvh: &Bvh, p: Vec3, slot: u32) -> Correspondence {
 
 /// The nearest point, its barycentric weights and the region it lies in, which decides the sign
 /// of the distance.
-struct Nearest {
-    point: Vec3,
-    weights: [f32; 3],
-    region: Region<f32>,
+pub(in crate::project) struct Nearest {
+    pub point: Vec3,
+    pub weights: [f32; 3],
+    pub region: Region<f32>,
 }
 
 /// The point of `tri` nearest to `p`, with the weights `closest_on_triangle` in
 /// `kernels/closest_point.wgsl` computes.
 #[inline(always)]
-fn closest_on_triangle(p: Vec3, tri: &BvhTriangle) -> Nearest {
+pub(in crate::project) fn closest_on_triangle(p: Vec3, tri: &BvhTriangle) -> Nearest {
     let [a, b, c] = tri.corners();
     let found = region(p, a, b, c);
     let weights = match found {

@@ -19,7 +19,7 @@ use super::graft::{Graft, assemble};
 use super::matching::{TrackedNearest, distances, far_given, within_bound};
 use crate::compute::Backend;
 use crate::mesh::IndexedMesh;
-use crate::project::{Bvh, closest_points};
+use crate::project::Bvh;
 use crate::topology::transfer::triangles_around;
 
 /// The samples of `left` (the input triangles `left_triangles` of `theirs`, as a mesh of their
@@ -118,11 +118,9 @@ impl Trees<'_> {
         let mut rest: Vec<usize> = (0..points.len()).collect();
         if !points.is_empty() {
             let (tracked, kept) = self.tracked;
-            let reach = max_distance / tracked.bvh.mean_edge_length();
-            let hits = closest_points(backend, &tracked.bvh, points, reach)?;
+            let hits = tracked.staying.nearest(backend, points, max_distance)?;
             rest.retain(|&i| {
-                let kept_near = hits[i].hit_triangle().and_then(|t| {
-                    let d = hits[i].distance.abs();
+                let kept_near = hits[i].and_then(|(t, d)| {
                     (kept[tracked.triangles[t as usize] as usize] && d <= bounded).then_some(d)
                 });
                 if let Some(d) = kept_near {

@@ -9,7 +9,7 @@ use rustc_hash::FxHashMap;
 use super::{SubgridError, VOTERS};
 use crate::compute::Backend;
 use crate::mesh::IndexedMesh;
-use crate::project::{Bvh, closest_points};
+use crate::project::{Bvh, Cells, closest_points};
 
 /// One component of a mesh: its vertices (indices), Euler characteristic and extent.
 pub(super) struct Component {
@@ -305,12 +305,52 @@ pub(super) fn within_bound(max_distance: f32) -> f32 {
     max_distance * (1.0 - 1e-4)
 }
 
+/// The tracked triangles that stay, as the sub-grid match's bound check measures the input
+/// against them: listed by cells on the CPU, where a tree took three times as long to build as
+/// its queries took to run (`project::Cells`), and in a tree on a GPU, whose kernels read one.
+/// Both find the same nearest triangles at the same distances.
+pub(super) enum Staying {
+    Cells(Cells),
+    Tree(Bvh),
+}
+
+impl Staying {
+    fn new(backend: &Backend, mesh: &IndexedMesh) -> Result<Self, SubgridError> {
+        Ok(match backend {
+            Backend::Cpu => Self::Cells(Cells::new(mesh)?),
+            Backend::Gpu(_) => Self::Tree(Bvh::build_unsigned(mesh)?),
+        })
+    }
+
+    /// The nearest triangle of each point within `max_distance` (world units) and its
+    /// distance.
+    pub fn nearest(
+        &self,
+        backend: &Backend,
+        points: &[Vec3],
+        max_distance: f32,
+    ) -> Result<Vec<Option<(u32, f32)>>, SubgridError> {
+        if points.is_empty() {
+            return Ok(Vec::new());
+        }
+        Ok(match self {
+            Self::Cells(cells) => cells.nearest(points, max_distance / cells.mean_edge_length())?,
+            Self::Tree(bvh) => {
+                closest_points(backend, bvh, points, max_distance / bvh.mean_edge_length())?
+                    .iter()
+                    .map(|hit| hit.hit_triangle().map(|t| (t, hit.distance.abs())))
+                    .collect()
+            }
+        })
+    }
+}
+
 /// The tracked surface the input was measured against in the sub-grid match's bound check, kept
-/// for the graft's checks (see `left_out`): its tree, the tracked mesh's index of each of its
-/// triangles, and for each vertex of the input the tracked triangle nearest to it (by that index)
-/// and its distance, where one lies within the distance bound.
+/// for the graft's checks (see `left_out`): the staying triangles, the tracked mesh's index of
+/// each of them, and for each vertex of the input the tracked triangle nearest to it (by that
+/// index) and its distance, where one lies within the distance bound.
 pub(super) struct TrackedNearest {
-    pub bvh: Bvh,
+    pub staying: Staying,
     pub triangles: Vec<u32>,
     pub nearest: Vec<Option<(u32, f32)>>,
 }
@@ -326,19 +366,11 @@ pub(super) fn far_from_tracked(
     (labels, count): (&[u32], usize),
     max_distance: f32,
 ) -> Result<(Vec<Vec<Vec3>>, TrackedNearest), SubgridError> {
-    let bvh = Bvh::build_unsigned(staying)?;
-    let reach = max_distance / bvh.mean_edge_length();
-    let hits = if input.positions.is_empty() {
-        Vec::new()
-    } else {
-        closest_points(backend, &bvh, &input.positions, reach)?
-    };
-    let nearest: Vec<Option<(u32, f32)>> = hits
-        .iter()
-        .map(|hit| {
-            hit.hit_triangle()
-                .map(|t| (stays[t as usize], hit.distance.abs()))
-        })
+    let staying = Staying::new(backend, staying)?;
+    let nearest: Vec<Option<(u32, f32)>> = staying
+        .nearest(backend, &input.positions, max_distance)?
+        .into_iter()
+        .map(|hit| hit.map(|(t, d)| (stays[t as usize], d)))
         .collect();
     let distance: Vec<f32> = nearest
         .iter()
@@ -349,12 +381,18 @@ pub(super) fn far_from_tracked(
         (labels, count),
         max_distance,
         &distance,
-        |open, _| distances(backend, &bvh, open, reach),
+        |open, _| {
+            Ok(staying
+                .nearest(backend, open, max_distance)?
+                .iter()
+                .map(|hit| hit.map_or(f32::INFINITY, |(_, d)| d))
+                .collect())
+        },
     )?;
     Ok((
         far,
         TrackedNearest {
-            bvh,
+            staying,
             triangles: stays.to_vec(),
             nearest,
         },
