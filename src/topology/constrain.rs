@@ -20,8 +20,8 @@
 //! droplets (`mismatch`), or in components that an attempt focused on them left as wrong as
 //! before: the grid cannot mend those, and the caller matches them below it.
 
-use std::cell::OnceCell;
 use std::rc::Rc;
+use std::sync::OnceLock;
 use std::time::Instant;
 
 use rustc_hash::{FxHashMap, FxHashSet};
@@ -101,7 +101,7 @@ fn resample(
         keep_shared: options.keep_shared_sheets,
     };
     // Built on the first comparison: most steps never compare components.
-    let isosurface = OnceCell::new();
+    let isosurface = OnceLock::new();
     let compared = || isosurface.get_or_init(|| Isosurface::of_field(theta, &iso, &iso_edges));
     let mut explained = if options.keep_shared_sheets {
         shared_sheet_cells(&grid, theta)
@@ -232,7 +232,12 @@ fn resample(
                     &splits,
                     (mesh.next_id(), &old, options.carry),
                 )?;
-                let judged = accepted(&built.mesh);
+                // The result's topology and its validity are judged on both cores at once; the
+                // half-edge mesh is wasted only where the topology is wrong.
+                let (judged, valid) = rayon::join(
+                    || accepted(&built.mesh),
+                    || validated(&built.mesh, &recorded),
+                );
                 // Every difference inside the components that came out wrong was re-sampled,
                 // and the result is wrong there again, and nowhere else: what makes them differ
                 // from Θ's lies below the grid. Keeping shared sheets, the caller matches the
@@ -244,7 +249,7 @@ fn resample(
                     && fallback.is_none()
                     && matches!(&judged, Err(Some(wrong))
                         if wrong.iter().all(|c| focus_area.binary_search(c).is_ok()));
-                let verdict = verify(&built.mesh, &recorded, judged.is_ok() || below);
+                let verdict = verify(valid, judged.is_ok() || below);
                 Ok((built, recorded, verdict, judged))
             }
             Err(points) => Err(points),
@@ -385,17 +390,9 @@ enum Failure {
     Topology,
 }
 
-/// The half-edge mesh of a result, with its ids, that is closed, manifold, oriented and
-/// non-degenerate (checked by `Mesh::from_indexed`, once) or empty, and has the topology the step
-/// must give (`topology_accepted`).
-fn verify(
-    mesh: &IndexedMesh,
-    recorded: &super::record::Recorded,
-    topology_accepted: bool,
-) -> Result<Mesh, Failure> {
-    if !topology_accepted {
-        return Err(Failure::Topology);
-    }
+/// The half-edge mesh of a result, with its ids, where it is closed, manifold, oriented and
+/// non-degenerate (checked by `Mesh::from_indexed`, once) or empty.
+fn validated(mesh: &IndexedMesh, recorded: &super::record::Recorded) -> Result<Mesh, Failure> {
     if mesh.triangles.is_empty() {
         return Ok(Mesh::empty());
     }
@@ -403,6 +400,14 @@ fn verify(
     output.ids = Some(recorded.ids.clone());
     output.attributes.clear();
     Mesh::from_indexed(&output).map_err(|e| Failure::Element(e.vertices(&mesh.triangles)))
+}
+
+/// A [`validated`] result, where it has the topology the step must give (`topology_accepted`).
+fn verify(valid: Result<Mesh, Failure>, topology_accepted: bool) -> Result<Mesh, Failure> {
+    if !topology_accepted {
+        return Err(Failure::Topology);
+    }
+    valid
 }
 
 /// Moves new vertices of the fill onto the carried input vertices the patch removes
@@ -503,12 +508,13 @@ fn replace_whole(
         &Default::default(),
         (mesh.next_id(), old, carry),
     )?;
-    let surface =
-        verify(&built.mesh, &recorded, signature(&built.mesh) == target).map_err(|_| {
-            TopologyError::Unresolved {
-                abandoned: report.abandoned.clone(),
-            }
-        })?;
+    let (topology, valid) = rayon::join(
+        || signature(&built.mesh) == target,
+        || validated(&built.mesh, &recorded),
+    );
+    let surface = verify(valid, topology).map_err(|_| TopologyError::Unresolved {
+        abandoned: report.abandoned.clone(),
+    })?;
     report.resampling = Resampling::Whole;
     let replacement = summarize(surface, recorded, report);
     report.euler = target.to_vec();
