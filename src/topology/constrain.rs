@@ -21,7 +21,6 @@
 //! before: the grid cannot mend those, and the caller matches them below it.
 
 use std::rc::Rc;
-use std::sync::OnceLock;
 use std::time::Instant;
 
 use rustc_hash::{FxHashMap, FxHashSet};
@@ -32,15 +31,16 @@ use super::cut::cut;
 use super::face_arcs::Arc;
 use super::field::Field;
 use super::fill::fill;
-use super::isosurface::{isosurface, place_isosurface, signature};
+use super::isosurface::{place_isosurface, signature};
 use super::keys::{Cell, GridEdge, GridFace, cell_face, cell_neighbour};
 use super::mesh_grid::MeshGrid;
-use super::mismatch::{Isosurface, mismatched};
+use super::mismatch::mismatched;
 use super::move_onto::move_onto;
 use super::narrow::changing;
 use super::points::Point;
 use super::record::record;
 use super::region::{Checks, grow};
+use super::theta_surface::ThetaSurface;
 use super::transfer::{Carry, Transfer};
 use super::{Abandoned, Resampling, TopologyError, TopologyOptions, TopologyReport};
 use super::{cell, droplets};
@@ -65,7 +65,17 @@ pub fn constrain_topology(
     theta: &Field,
     options: &TopologyOptions,
 ) -> Result<TopologyReport, TopologyError> {
-    let (mut report, replacement) = resample(mesh, theta, options)?;
+    constrain_topology_on(mesh, (theta, &ThetaSurface::of(theta)), options)
+}
+
+/// [`constrain_topology`] with Θ's isosurface extracted beforehand (`ThetaSurface::of(theta)`),
+/// as the tracker does for Φ(T) while registration runs.
+pub fn constrain_topology_on(
+    mesh: &mut Mesh,
+    (theta, iso): (&Field, &ThetaSurface),
+    options: &TopologyOptions,
+) -> Result<TopologyReport, TopologyError> {
+    let (mut report, replacement) = resample(mesh, (theta, iso), options)?;
     if let Some(replacement) = replacement {
         let reach = options.continue_within * theta.frame().spacing();
         let (replacement, continued) = replacement.continuing(mesh, reach);
@@ -78,14 +88,16 @@ pub fn constrain_topology(
 /// The attempts of [`constrain_topology`]; the new surface and its record, unless nothing changes.
 fn resample(
     mesh: &Mesh,
-    theta: &Field,
+    (theta, theta_surface): (&Field, &ThetaSurface),
     options: &TopologyOptions,
 ) -> Result<(TopologyReport, Option<Replacement>), TopologyError> {
     let start = Instant::now();
     let input = mesh.to_indexed();
-    let surface = theta.surface();
-    let (iso, iso_edges) = isosurface(theta, &surface);
-    let target = signature(&iso);
+    let (surface, iso, target) = (
+        &theta_surface.cells,
+        &theta_surface.mesh,
+        &theta_surface.signature,
+    );
     let grid = MeshGrid::new(&input, mesh, *theta.frame())?;
     let mut checks = Checks::new(&grid, theta);
     let mut report = TopologyReport::default();
@@ -101,8 +113,7 @@ fn resample(
         keep_shared: options.keep_shared_sheets,
     };
     // Built on the first comparison: most steps never compare components.
-    let isosurface = OnceLock::new();
-    let compared = || isosurface.get_or_init(|| Isosurface::of_field(theta, &iso, &iso_edges));
+    let compared = || theta_surface.compared(theta);
     let mut explained = if options.keep_shared_sheets {
         shared_sheet_cells(&grid, theta)
     } else {
@@ -128,7 +139,7 @@ fn resample(
     // Θ's but where such a sheet makes the difference. Where it is not, the cells of the
     // components that differ if they were compared, which a failed attempt reuses.
     let accepted = |mesh: &IndexedMesh| -> Result<(), Option<Vec<Cell>>> {
-        if signature(mesh) == target {
+        if signature(mesh) == *target {
             return Ok(());
         }
         if !options.keep_shared_sheets {
@@ -169,7 +180,7 @@ fn resample(
                 let mut cells = seeds(&grid, theta, &every);
                 cells.retain(|c| wrong.binary_search(c).is_ok());
                 if narrowed {
-                    let changing = changing(&grid, (&surface, &iso), &cells);
+                    let changing = changing(&grid, (surface, iso), &cells);
                     if changing.len() < cells.len() {
                         fallback = Some((wrong, before.clone()));
                         cells = changing;
@@ -311,8 +322,8 @@ fn resample(
         (mesh, &old, options.carry),
         &grid,
         theta,
-        (iso, iso_edges),
-        &target,
+        (iso.clone(), theta_surface.edges.clone()),
+        target,
         &mut report,
     )?;
     report.total = start.elapsed();

@@ -42,14 +42,16 @@ mod region;
 mod report;
 mod segment;
 pub mod subgrid;
+mod theta_surface;
 mod transfer;
 mod triangulate;
 
-pub use constrain::constrain_topology;
+pub use constrain::{constrain_topology, constrain_topology_on};
 pub use distance::PHI_HALF_WIDTH;
 pub(crate) use droplets::{cell, droplets};
 pub use error::TopologyError;
 pub use field::Field;
 pub use options::{CONTINUE_WITHIN, Moves, TopologyOptions};
 pub use report::{Abandoned, Resampling, TopologyReport};
+pub use theta_surface::ThetaSurface;
 pub use transfer::Carry;

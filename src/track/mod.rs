@@ -25,7 +25,9 @@ use crate::mesh::{IndexedMesh, Mesh, MeshError};
 use crate::project::{Bvh, ProjectError, closest_points};
 use crate::register::{RegisterError, RegisterOptions, Target, register};
 use crate::topology::subgrid::{Fidelity, SubgridCounts, SubgridError, match_and_improve};
-use crate::topology::{Field, Moves, TopologyError, TopologyOptions, constrain_topology};
+use crate::topology::{
+    Field, Moves, ThetaSurface, TopologyError, TopologyOptions, constrain_topology_on,
+};
 use anchor::localized;
 use churn::Marks;
 use glam::Vec3;
@@ -360,22 +362,24 @@ impl Tracker {
         // Vertices from earlier frames may move along the surface rather than go; this frame's own
         // are thinned as before.
         self.params.relax_below = self.mesh.next_id();
-        // Lines 5–6: M follows T_j; Φ(T_j) is sampled meanwhile.
-        let (converged, phi_t) = self.follow(backend, frame, target, &bvh, &mut times)?;
+        // Lines 5–6: M follows T_j; Φ(T_j) and its isosurface are made meanwhile.
+        let (converged, (phi_t, theta_t)) =
+            self.follow(backend, frame, target, &bvh, &mut times)?;
         // Line 7: improve.
         marks.improve.push(self.improve(frame, &mut times)?);
         // Lines 8–9: merge M's self-intersections, ConstrainTopology(M, Φ(M)).
         let t = Instant::now();
         let phi_m = Field::signed_distance(backend, self.grid, &self.mesh.to_indexed())
             .map_err(|e| TrackError::at(frame, e))?;
-        let (merged, span, continued_self) = self.constrain(frame, &phi_m)?;
+        let (merged, span, continued_self) =
+            self.constrain(frame, (&phi_m, &ThetaSurface::of(&phi_m)))?;
         marks.topology_self = span;
         times.topology_self = ms(t.elapsed());
         // Lines 10–11: take the target's topology, ConstrainTopology(M, Φ(T_j)).
         let t = Instant::now();
         snap::snap(backend, &mut self.mesh, &bvh, self.params.min_angle_degrees)
             .map_err(|e| TrackError::at(frame, e))?;
-        let (constrained, span, continued_target) = self.constrain(frame, &phi_t)?;
+        let (constrained, span, continued_target) = self.constrain(frame, (&phi_t, &theta_t))?;
         marks.topology_target = span;
         times.topology_target = ms(t.elapsed());
         // What the grid cannot see, then line 12: improve (with the match's re-check).
@@ -436,9 +440,11 @@ impl Tracker {
         Ok((events, log))
     }
 
-    /// Moves the mesh onto `target` (Algorithm 1, lines 5–6) and samples Φ(T) alongside: Φ(T)
-    /// depends on the target frame alone, and registration's sparse factorizations run on one
-    /// core, so the other would idle. Returns whether registration converged, and Φ(T).
+    /// Moves the mesh onto `target` (Algorithm 1, lines 5–6) and samples Φ(T) alongside, with the
+    /// isosurface its `ConstrainTopology` reads (placed for comparing components too, where the
+    /// step keeps shared sheets and so compares them): both depend on the target frame alone,
+    /// and registration's sparse factorizations run on one core, so the other would idle.
+    /// Returns whether registration converged, and Φ(T) with its isosurface.
     fn follow(
         &mut self,
         backend: &Backend,
@@ -446,8 +452,9 @@ impl Tracker {
         target: &IndexedMesh,
         bvh: &Bvh,
         times: &mut StageTimes,
-    ) -> Result<(bool, Field), TrackError> {
+    ) -> Result<(bool, (Field, ThetaSurface)), TrackError> {
         let t = Instant::now();
+        let compares = self.keeps_shared_sheets();
         let (mesh, options, grid) = (&mut self.mesh, &self.options, self.grid);
         let (moved, phi_t) = rayon::join(
             || match options.motion {
@@ -458,7 +465,16 @@ impl Tracker {
                     .map(|()| (true, 0.0))
                     .map_err(|e| TrackError::at(frame, e)),
             },
-            || Field::signed_distance(backend, grid, target).map_err(|e| TrackError::at(frame, e)),
+            || {
+                let phi = Field::signed_distance(backend, grid, target)
+                    .map_err(|e| TrackError::at(frame, e))?;
+                let surface = if compares {
+                    ThetaSurface::compared_of(&phi)
+                } else {
+                    ThetaSurface::of(&phi)
+                };
+                Ok((phi, surface))
+            },
         );
         let (converged, fine) = moved?;
         let phi_t = phi_t?;
@@ -476,22 +492,27 @@ impl Tracker {
     fn constrain(
         &mut self,
         frame: usize,
-        theta: &Field,
+        theta: (&Field, &ThetaSurface),
     ) -> Result<(bool, Range<usize>, Vec<u64>), TrackError> {
         let mark = self.mesh.journal_len();
-        // Where the sub-grid match follows, the sheets it would copy back are kept.
         let options = TopologyOptions {
-            keep_shared_sheets: self.options.fidelity != Fidelity::Grid,
+            keep_shared_sheets: self.keeps_shared_sheets(),
             moves: self.moves(),
             ..self.options.topology
         };
-        let report = constrain_topology(&mut self.mesh, theta, &options)
+        let report = constrain_topology_on(&mut self.mesh, theta, &options)
             .map_err(|e| TrackError::at(frame, e))?;
         Ok((
             report.changed(),
             mark..self.mesh.journal_len(),
             report.continued,
         ))
+    }
+
+    /// Whether the topology steps keep the sheets thinner than a cell that Θ's mesh has too:
+    /// where the sub-grid match follows, which would copy them back.
+    fn keeps_shared_sheets(&self) -> bool {
+        self.options.fidelity != Fidelity::Grid
     }
 
     /// This frame's moves of new vertices onto the carried ones re-sampling removes: those from
