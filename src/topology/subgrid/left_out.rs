@@ -16,10 +16,9 @@ use glam::Vec3;
 
 use super::SubgridError;
 use super::graft::{Graft, assemble};
-use super::matching::{TrackedNearest, distances, far_given, within_bound};
+use super::matching::{Bounded, TrackedNearest, far_given, within_bound};
 use crate::compute::Backend;
 use crate::mesh::IndexedMesh;
-use crate::project::Bvh;
 use crate::topology::transfer::triangles_around;
 
 /// The samples of `left` (the input triangles `left_triangles` of `theirs`, as a mesh of their
@@ -72,35 +71,38 @@ pub(super) fn far_left_out(
 }
 
 /// What a point's distance to the result is measured against: the tracked surface with the
-/// triangles the result keeps, the result's new triangles (copied and strips, with their tree
-/// once built), and the whole result, with the cell size of the trees over its triangles around
-/// the few points left (`triangles_around`: a tree over the whole result, for a handful of
-/// points, was most of a check's time).
+/// triangles the result keeps, the result's new triangles (copied and strips, listed once
+/// asked), and the whole result, with the cell size of the lists of its triangles around the few
+/// points left (`triangles_around`: a tree over the whole result, for a handful of points, was
+/// most of a check's time).
 struct Trees<'a> {
     tracked: (&'a TrackedNearest, &'a [bool]),
-    fresh: (&'a IndexedMesh, Option<Bvh>),
+    fresh: (&'a IndexedMesh, Option<Bounded>),
     whole: (&'a IndexedMesh, f32),
 }
 
-/// `mesh`'s tree, built on first use.
-fn tree<'t>(slot: &'t mut (&IndexedMesh, Option<Bvh>)) -> Result<&'t Bvh, SubgridError> {
+/// `mesh` listed for measuring against, on first use.
+fn listed<'t>(
+    backend: &Backend,
+    slot: &'t mut (&IndexedMesh, Option<Bounded>),
+) -> Result<&'t Bounded, SubgridError> {
     if slot.1.is_none() {
-        slot.1 = Some(Bvh::build_unsigned(slot.0)?);
+        slot.1 = Some(Bounded::new(backend, slot.0)?);
     }
-    Ok(slot.1.as_ref().expect("the tree was just built"))
+    Ok(slot.1.as_ref().expect("the surface was just listed"))
 }
 
-/// The distances from `points[i]`, for each `i` of `which`, to the surface in `bvh`, infinite
-/// beyond `max_distance` (world units).
+/// The distances from `points[i]`, for each `i` of `which`, to `surface`, infinite beyond
+/// `max_distance` (world units).
 fn distances_at(
     backend: &Backend,
-    bvh: &Bvh,
+    surface: &Bounded,
     points: &[Vec3],
     which: &[usize],
     max_distance: f32,
 ) -> Result<Vec<f32>, SubgridError> {
     let asked: Vec<Vec3> = which.iter().map(|&i| points[i]).collect();
-    distances(backend, bvh, &asked, max_distance / bvh.mean_edge_length())
+    surface.distances(backend, &asked, max_distance)
 }
 
 impl Trees<'_> {
@@ -130,7 +132,8 @@ impl Trees<'_> {
             });
         }
         if !rest.is_empty() && !self.fresh.0.triangles.is_empty() {
-            let found = distances_at(backend, tree(&mut self.fresh)?, points, &rest, max_distance)?;
+            let fresh = listed(backend, &mut self.fresh)?;
+            let found = distances_at(backend, fresh, points, &rest, max_distance)?;
             let mut still = Vec::new();
             for (&i, d) in rest.iter().zip(found) {
                 if d <= bounded {
@@ -154,8 +157,14 @@ impl Trees<'_> {
         );
         // No triangle near any of them: every one lies beyond the bound.
         if !near.is_empty() {
-            let bvh = Bvh::build_unsigned(&IndexedMesh::new(whole.positions.clone(), near))?;
-            let found = distances_at(backend, &bvh, points, &rest, max_distance)?;
+            let around = IndexedMesh::new(whole.positions.clone(), near);
+            let found = distances_at(
+                backend,
+                &Bounded::new(backend, &around)?,
+                points,
+                &rest,
+                max_distance,
+            )?;
             for (&i, d) in rest.iter().zip(found) {
                 out[i] = d;
             }
@@ -171,6 +180,7 @@ mod tests {
         Against, far_components, far_from_tracked, tracked_sphere_and_bumped_input,
     };
     use super::*;
+    use crate::project::Bvh;
 
     /// On a tracked sphere and a bumped input, for kept, copied and left-out triangles on
     /// either side of a gap, the far samples are those a tree over the whole result gives, in

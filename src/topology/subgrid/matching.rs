@@ -305,17 +305,17 @@ pub(super) fn within_bound(max_distance: f32) -> f32 {
     max_distance * (1.0 - 1e-4)
 }
 
-/// The tracked triangles that stay, as the sub-grid match's bound check measures the input
-/// against them: listed by cells on the CPU, where a tree took three times as long to build as
-/// its queries took to run (`project::Cells`), and in a tree on a GPU, whose kernels read one.
+/// A surface measured against only within a bound: listed by cells on the CPU, where a tree
+/// took three times as long to build as its queries took to run (`project::Cells`; the staying
+/// tracked triangles of a dam-break frame, 33.5k), and in a tree on a GPU, whose kernels read one.
 /// Both find the same nearest triangles at the same distances.
-pub(super) enum Staying {
+pub(super) enum Bounded {
     Cells(Cells),
     Tree(Bvh),
 }
 
-impl Staying {
-    fn new(backend: &Backend, mesh: &IndexedMesh) -> Result<Self, SubgridError> {
+impl Bounded {
+    pub fn new(backend: &Backend, mesh: &IndexedMesh) -> Result<Self, SubgridError> {
         Ok(match backend {
             Backend::Cpu => Self::Cells(Cells::new(mesh)?),
             Backend::Gpu(_) => Self::Tree(Bvh::build_unsigned(mesh)?),
@@ -343,6 +343,20 @@ impl Staying {
             }
         })
     }
+
+    /// The distance from each point to the surface, infinite beyond `max_distance`.
+    pub fn distances(
+        &self,
+        backend: &Backend,
+        points: &[Vec3],
+        max_distance: f32,
+    ) -> Result<Vec<f32>, SubgridError> {
+        Ok(self
+            .nearest(backend, points, max_distance)?
+            .iter()
+            .map(|hit| hit.map_or(f32::INFINITY, |(_, d)| d))
+            .collect())
+    }
 }
 
 /// The tracked surface the input was measured against in the sub-grid match's bound check, kept
@@ -350,7 +364,7 @@ impl Staying {
 /// each of them, and for each vertex of the input the tracked triangle nearest to it (by that
 /// index) and its distance, where one lies within the distance bound.
 pub(super) struct TrackedNearest {
-    pub staying: Staying,
+    pub staying: Bounded,
     pub triangles: Vec<u32>,
     pub nearest: Vec<Option<(u32, f32)>>,
 }
@@ -366,7 +380,7 @@ pub(super) fn far_from_tracked(
     (labels, count): (&[u32], usize),
     max_distance: f32,
 ) -> Result<(Vec<Vec<Vec3>>, TrackedNearest), SubgridError> {
-    let staying = Staying::new(backend, staying)?;
+    let staying = Bounded::new(backend, staying)?;
     let nearest: Vec<Option<(u32, f32)>> = staying
         .nearest(backend, &input.positions, max_distance)?
         .into_iter()
@@ -381,13 +395,7 @@ pub(super) fn far_from_tracked(
         (labels, count),
         max_distance,
         &distance,
-        |open, _| {
-            Ok(staying
-                .nearest(backend, open, max_distance)?
-                .iter()
-                .map(|hit| hit.map_or(f32::INFINITY, |(_, d)| d))
-                .collect())
-        },
+        |open, _| staying.distances(backend, open, max_distance),
     )?;
     Ok((
         far,
