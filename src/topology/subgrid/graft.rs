@@ -62,13 +62,12 @@ use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::SubgridError;
 use super::left_out::far_left_out;
-use super::matching::{Against, InputDistances, TrackedNearest, far_components};
+use super::matching::{Against, Bounded, InputDistances, TrackedNearest, far_components};
 use super::seeds;
 use super::stitch::least_cost_steps;
 use crate::compute::Backend;
 use crate::grid::GridFrame;
 use crate::mesh::{IndexedMesh, degenerate_triangle, min_angle_degrees};
-use crate::project::Bvh;
 use crate::topology::cell;
 use crate::topology::classify::dilate;
 use crate::topology::keys::Cell;
@@ -1390,14 +1389,14 @@ fn far_apart(
     bounds: &Bounds,
     distance: f32,
 ) -> Result<Vec<Vec3>, SubgridError> {
-    let (from_input, whole_bvh) = rayon::join(
+    let (from_input, whole) = rayon::join(
         || far_points(bounds.backend, Against::Input(bounds.input), ours, distance),
-        || Bvh::build_unsigned(whole),
+        || Bounded::new(bounds.backend, whole),
     );
     let mut found = from_input?;
     found.extend(far_points(
         bounds.backend,
-        Against::Tree(&whole_bvh?),
+        Against::Listed(&whole?),
         theirs,
         distance,
     )?);
@@ -1500,6 +1499,7 @@ fn check(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::project::Bvh;
 
     /// A loop of `n` points on a circle of radius `r` around `centre` in the plane z = `z`.
     fn circle(centre: Vec3, r: f32, n: usize) -> Vec<Vec3> {

@@ -227,10 +227,10 @@ mod tests {
                 (max_distance, 0.1),
             )
             .unwrap();
-            let whole = Bvh::build_unsigned(&part).unwrap();
+            let whole = Bounded::Tree(Bvh::build_unsigned(&part).unwrap());
             let expected: Vec<Vec3> = far_components(
                 &backend,
-                Against::Tree(&whole),
+                Against::Listed(&whole),
                 &left,
                 &left_labels,
                 1,

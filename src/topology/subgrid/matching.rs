@@ -171,31 +171,27 @@ impl<'a> InputDistances<'a> {
     }
 }
 
-/// The surface `far_components` measures against: any tree, or the input's through what was
-/// measured before.
+/// The surface `far_components` measures against: any surface listed for it, or the input's
+/// through what was measured before.
 #[derive(Clone, Copy)]
 pub(super) enum Against<'a> {
-    Tree(&'a Bvh),
+    Listed(&'a Bounded),
     Input(&'a InputDistances<'a>),
 }
 
 impl Against<'_> {
-    fn bvh(&self) -> &Bvh {
-        match self {
-            Self::Tree(bvh) => bvh,
-            Self::Input(input) => input.bvh,
-        }
-    }
-
+    /// The distance from each point, infinite beyond `max_distance` (world units).
     fn distances(
         &self,
         backend: &Backend,
         points: &[Vec3],
-        reach: f32,
+        max_distance: f32,
     ) -> Result<Vec<f32>, SubgridError> {
         match self {
-            Self::Tree(bvh) => distances(backend, bvh, points, reach),
-            Self::Input(input) => input.distances(backend, points, reach),
+            Self::Listed(surface) => surface.distances(backend, points, max_distance),
+            Self::Input(input) => {
+                input.distances(backend, points, max_distance / input.bvh.mean_edge_length())
+            }
         }
     }
 }
@@ -237,10 +233,9 @@ pub(super) fn far_components(
     count: usize,
     max_distance: f32,
 ) -> Result<Vec<Vec<Vec3>>, SubgridError> {
-    let reach = max_distance / against.bvh().mean_edge_length();
-    let distance = against.distances(backend, &mesh.positions, reach)?;
+    let distance = against.distances(backend, &mesh.positions, max_distance)?;
     far_given(mesh, (labels, count), max_distance, &distance, |open, _| {
-        against.distances(backend, open, reach)
+        against.distances(backend, open, max_distance)
     })
 }
 
