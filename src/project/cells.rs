@@ -3,9 +3,9 @@
 //! The sub-grid match measures every input vertex against the tracked surface within a bound of
 //! under one edge (twice a frame on a torn fluid frame); a tree over the 30k–40k triangles of a
 //! dam-break frame took 20 ms to build on one core, three times what its queries took. Here each
-//! triangle is listed in the cells of spacing twice the mean edge length that its box meets, a
-//! counting pass and a filling pass; a query reads the cell of its point first, then the cells
-//! that the cube of half-side the nearest distance found so far still meets. The answer is the
+//! triangle is listed in the cells of spacing one mean edge length that its box meets, a counting
+//! pass and a filling pass; a query reads the cell of its point first, then the cells that the
+//! cube of half-side the nearest distance found there meets, each triangle once. The answer is the
 //! one [`closest_points`](super::closest_points) gives on the CPU against a tree over the same
 //! mesh: the nearest triangle within the bound, ties to the lower index, found with the same
 //! point–triangle arithmetic, at the same distance.
@@ -26,8 +26,7 @@ use crate::mesh::IndexedMesh;
 /// at 3 (one core), the tree's 13.5 ms; the listing about 5 ms at each, the tree's build 22 ms.
 const CELL_EDGES: f32 = 1.0;
 
-/// Most cells per triangle the grid may hold; a mesh spread thinly over a large box gets wider
-/// cells instead.
+/// Most grid cells per triangle; a mesh spread thinly over a large box gets wider cells instead.
 const CELLS_PER_TRIANGLE: usize = 8;
 
 /// Share by which the cube a query searches and the boxes it compares are widened, so rounding
