@@ -8,6 +8,10 @@
 //!   and on two; `cast_ray_1_thread` casts the 200k rays one direction at a time, like a
 //!   single-ray tracer; the GPU variants with and without the per-call transfers.
 //! - `project/closest_point`: `closest_points` for the 100k source vertices.
+//! - `project/bounded`: the nearest triangle of each source vertex within 0.75 mean edge
+//!   lengths, the surface built for it and queried once, as the sub-grid match's bound checks
+//!   do: `tree` (`Bvh::build_unsigned`, `closest_points`) against `cells` (`Cells::new`,
+//!   `Cells::nearest`), on one thread and on two.
 //! - `project_cpu_time/*`: the CPU variants again, timed by the CPU time of the whole process
 //!   instead of the wall clock. On a machine shared with other jobs a thread is not always
 //!   scheduled, which the wall clock counts and CPU time does not, so these give the rate per busy
@@ -32,7 +36,7 @@ use criterion::{
 use glam::Vec3;
 use surftrack::compute::{Backend, BackendChoice};
 use surftrack::mesh::IndexedMesh;
-use surftrack::project::{Bvh, GpuQueries, ProjectOptions, closest_points, project};
+use surftrack::project::{Bvh, Cells, GpuQueries, ProjectOptions, closest_points, project};
 
 /// Threads of the multi-threaded variants: the two cores of the reference measurements.
 const THREADS: usize = 2;
@@ -219,7 +223,41 @@ fn cpu_groups<M: Measurement>(
     }
     extra(Stage::ClosestPoint, &mut group);
     group.finish();
+
+    let mut group = c.benchmark_group(format!("{prefix}/bounded"));
+    short(&mut group);
+    group.throughput(Throughput::Elements(n as u64));
+    let reach = BOUND;
+    for (threads, pool) in &pools {
+        group.bench_function(
+            BenchmarkId::new(format!("tree_{}", name(*threads)), n),
+            |b| {
+                b.iter(|| {
+                    pool.install(|| {
+                        let bvh = Bvh::build_unsigned(black_box(&f.target)).expect("bvh");
+                        closest_points(&Backend::Cpu, &bvh, &f.points, reach).expect("query")
+                    })
+                })
+            },
+        );
+        group.bench_function(
+            BenchmarkId::new(format!("cells_{}", name(*threads)), n),
+            |b| {
+                b.iter(|| {
+                    pool.install(|| {
+                        let cells = Cells::new(black_box(&f.target)).expect("cells");
+                        cells.nearest(&f.points, reach).expect("query")
+                    })
+                })
+            },
+        );
+    }
+    group.finish();
 }
+
+/// The bound of `project/bounded`, in mean edge lengths: the sub-grid match's default distance
+/// bound (`track::MAX_DISTANCE`) with the tracked and input edges alike.
+const BOUND: f32 = 0.75;
 
 /// The single-ray and GPU variants of `stage`, by the wall clock.
 fn other_variants(stage: Stage, group: &mut BenchmarkGroup<'_, WallTime>, gpu: Option<&Backend>) {
