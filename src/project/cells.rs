@@ -66,32 +66,20 @@ impl Cells {
         if !(cell.is_finite() && cell > 0.0) {
             cell = 1.0;
         }
-        let key = |p: Vec3, cell: f32| (p / cell).floor().as_ivec3();
-        while {
-            let size = key(hi, cell) - key(lo, cell) + IVec3::ONE;
-            size.x as usize * size.y as usize * size.z as usize > most
-        } {
+        while volume(key(hi, cell) - key(lo, cell) + IVec3::ONE) > most {
             cell *= 1.5;
         }
         let low = key(lo, cell);
         let size = key(hi, cell) - low + IVec3::ONE;
-        let index = |c: IVec3| {
-            let c = c - low;
-            (c.x + size.x * (c.y + size.y * c.z)) as usize
-        };
         let ranges: Vec<(IVec3, IVec3)> = boxes
             .par_iter()
             .map(|b| (key(b.min, cell), key(b.max, cell)))
             .collect();
-        let cells = size.x as usize * size.y as usize * size.z as usize;
+        let cells = volume(size);
         let mut first = vec![0u32; cells + 1];
-        for (a, b) in &ranges {
-            for z in a.z..=b.z {
-                for y in a.y..=b.y {
-                    for x in a.x..=b.x {
-                        first[index(IVec3::new(x, y, z)) + 1] += 1;
-                    }
-                }
+        for &(a, b) in &ranges {
+            for c in between(a, b) {
+                first[index(c, low, size) + 1] += 1;
             }
         }
         for i in 0..cells {
@@ -99,15 +87,11 @@ impl Cells {
         }
         let mut fill = first.clone();
         let mut listed = vec![0u32; first[cells] as usize];
-        for (t, (a, b)) in ranges.iter().enumerate() {
-            for z in a.z..=b.z {
-                for y in a.y..=b.y {
-                    for x in a.x..=b.x {
-                        let slot = &mut fill[index(IVec3::new(x, y, z))];
-                        listed[*slot as usize] = t as u32;
-                        *slot += 1;
-                    }
-                }
+        for (t, &(a, b)) in ranges.iter().enumerate() {
+            for c in between(a, b) {
+                let slot = &mut fill[index(c, low, size)];
+                listed[*slot as usize] = t as u32;
+                *slot += 1;
             }
         }
         let triangles = mesh
@@ -152,25 +136,17 @@ impl Cells {
             return None;
         }
         let mut best = (reach * reach, u32::MAX);
-        let own = (p / self.cell).floor().as_ivec3();
+        let own = key(p, self.cell);
         if self.holds(own) {
             self.search(own, p, &mut best, None);
         }
         let half = best.0.sqrt() * (1.0 + MARGIN) + MARGIN * self.cell;
-        let key = |q: Vec3| (q / self.cell).floor().as_ivec3();
         let (a, b) = (
-            key(p - Vec3::splat(half)).max(self.low),
-            key(p + Vec3::splat(half)).min(self.low + self.size - IVec3::ONE),
+            key(p - Vec3::splat(half), self.cell).max(self.low),
+            key(p + Vec3::splat(half), self.cell).min(self.low + self.size - IVec3::ONE),
         );
-        for z in a.z..=b.z {
-            for y in a.y..=b.y {
-                for x in a.x..=b.x {
-                    let c = IVec3::new(x, y, z);
-                    if c != own {
-                        self.search(c, p, &mut best, Some(a));
-                    }
-                }
-            }
+        for c in between(a, b).filter(|&c| c != own) {
+            self.search(c, p, &mut best, Some(a));
         }
         let (_, id) = best;
         let tri = self.triangles.get(id as usize)?;
@@ -185,10 +161,7 @@ impl Cells {
     /// Tries the triangles of cell `c` on `best` (squared distance, index). Searching the cells
     /// from `from` up, a triangle is tried only in the first of them that it meets.
     fn search(&self, c: IVec3, p: Vec3, best: &mut (f32, u32), from: Option<IVec3>) {
-        let i = {
-            let c = c - self.low;
-            (c.x + self.size.x * (c.y + self.size.y * c.z)) as usize
-        };
+        let i = index(c, self.low, self.size);
         for &t in &self.listed[self.first[i] as usize..self.first[i + 1] as usize] {
             if let Some(from) = from
                 && self.lowest[t as usize].max(from) != c
@@ -209,6 +182,29 @@ impl Cells {
             }
         }
     }
+}
+
+/// The cell holding `p`, of spacing `cell`.
+fn key(p: Vec3, cell: f32) -> IVec3 {
+    (p / cell).floor().as_ivec3()
+}
+
+/// The number of cells in a block of `size` cells along each axis.
+fn volume(size: IVec3) -> usize {
+    size.x as usize * size.y as usize * size.z as usize
+}
+
+/// Where cell `c` lies among the `size` cells from `low` on, x fastest.
+fn index(c: IVec3, low: IVec3, size: IVec3) -> usize {
+    let c = c - low;
+    (c.x + size.x * (c.y + size.y * c.z)) as usize
+}
+
+/// The cells from `a` to `b` (both included), x fastest.
+fn between(a: IVec3, b: IVec3) -> impl Iterator<Item = IVec3> {
+    (a.z..=b.z).flat_map(move |z| {
+        (a.y..=b.y).flat_map(move |y| (a.x..=b.x).map(move |x| IVec3::new(x, y, z)))
+    })
 }
 
 #[cfg(test)]

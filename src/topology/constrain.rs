@@ -32,7 +32,7 @@ use super::face_arcs::Arc;
 use super::field::Field;
 use super::fill::fill;
 use super::isosurface::{place_isosurface, signature};
-use super::keys::{Cell, GridEdge, GridFace, cell_face, cell_neighbour};
+use super::keys::{Cell, GridFace, cell_face, cell_neighbour};
 use super::mesh_grid::MeshGrid;
 use super::mismatch::mismatched;
 use super::move_onto::move_onto;
@@ -321,9 +321,7 @@ fn resample(
     let replacement = replace_whole(
         (mesh, &old, options.carry),
         &grid,
-        theta,
-        (iso.clone(), theta_surface.edges.clone()),
-        target,
+        (theta, theta_surface),
         &mut report,
     )?;
     report.total = start.elapsed();
@@ -501,15 +499,15 @@ fn summarize(
 fn replace_whole(
     (mesh, old, carry): (&Mesh, &Transfer, Carry),
     grid: &MeshGrid,
-    theta: &Field,
-    (mut iso, edges): (IndexedMesh, Vec<GridEdge>),
-    target: &[i64],
+    (theta, theta_surface): (&Field, &ThetaSurface),
     report: &mut TopologyReport,
 ) -> Result<Replacement, TopologyError> {
     let clock = Instant::now();
-    place_isosurface(theta, &mut iso, &edges);
+    let (mut iso, edges) = (theta_surface.mesh.clone(), &theta_surface.edges);
+    let target = &theta_surface.signature;
+    place_isosurface(theta, &mut iso, edges);
     let built = Built {
-        points: edges.into_iter().map(Point::Level).collect(),
+        points: edges.iter().copied().map(Point::Level).collect(),
         mesh: iso,
         parameters: Default::default(),
     };
@@ -520,7 +518,7 @@ fn replace_whole(
         (mesh.next_id(), old, carry),
     )?;
     let (topology, valid) = rayon::join(
-        || signature(&built.mesh) == target,
+        || signature(&built.mesh) == *target,
         || validated(&built.mesh, &recorded),
     );
     let surface = verify(valid, topology).map_err(|_| TopologyError::Unresolved {
