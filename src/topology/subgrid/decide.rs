@@ -3,6 +3,7 @@
 //! (see the module above).
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use super::earlier::all_within;
 use super::graft::{self, Bounds, Graft, Side};
@@ -158,13 +159,14 @@ pub(super) fn decide(
         delete[c] = true;
         counts.deleted += 1;
     }
+    // The components whose tracked ones do not reproduce them, each with its largest tracked one.
+    let mut unfaithful: Vec<usize> = Vec::new();
     for (k, group) in members.iter().enumerate() {
         let Some(largest) = largest[k] else {
             insert[k] = true;
             counts.inserted += 1;
             continue;
         };
-        let others = group.iter().copied().filter(|&c| c != largest);
         let faithful = match fidelity {
             Fidelity::Input | Fidelity::InputWhole => {
                 alike((ours, &theirs[k]), &our_far, small, (group, largest))
@@ -177,50 +179,61 @@ pub(super) fn decide(
             }
         };
         if faithful {
+            let others = group.iter().copied().filter(|&c| c != largest);
             for c in others.filter(|&c| ours[c].diagonal <= small) {
                 delete[c] = true;
                 counts.deleted += 1;
             }
-            continue;
+        } else {
+            unfaithful.push(k);
         }
-        let grafted = match fidelity {
-            Fidelity::Input => {
-                let far: Vec<Vec3> = group
-                    .iter()
-                    .flat_map(|&c| &our_far[c])
-                    .chain(&their_far[k])
-                    .copied()
-                    .collect();
-                graft::graft(
-                    (
-                        &Side::new(
-                            current,
-                            group
-                                .iter()
-                                .flat_map(|&c| &our_triangles[c])
-                                .copied()
-                                .collect(),
-                        ),
-                        &Side::new(target, their_triangles[k].clone()),
-                    ),
-                    &far,
-                    group.len() == 1 && ours[largest].euler == theirs[k].euler,
-                    &Bounds {
-                        backend,
-                        input,
-                        spacing,
-                        max_distance,
-                        euler: theirs[k].euler,
-                        nearest: nearest.as_ref(),
-                    },
-                )?
-            }
-            Fidelity::InputWhole | Fidelity::Grid => None,
-        };
-        for &c in group {
+    }
+    // Each graft reads the surfaces and the bound check's measurements only: the grafts of
+    // different input components run side by side, so a droplet's graft takes the core the main
+    // body's graft leaves idle, and their results are taken in component order.
+    let graft_of = |k: usize| -> Result<Option<Graft>, SubgridError> {
+        let group = &members[k];
+        let far: Vec<Vec3> = group
+            .iter()
+            .flat_map(|&c| &our_far[c])
+            .chain(&their_far[k])
+            .copied()
+            .collect();
+        let same_euler = largest[k].is_some_and(|l| ours[l].euler == theirs[k].euler);
+        graft::graft(
+            (
+                &Side::new(
+                    current,
+                    group
+                        .iter()
+                        .flat_map(|&c| &our_triangles[c])
+                        .copied()
+                        .collect(),
+                ),
+                &Side::new(target, their_triangles[k].clone()),
+            ),
+            &far,
+            group.len() == 1 && same_euler,
+            &Bounds {
+                backend,
+                input,
+                spacing,
+                max_distance,
+                euler: theirs[k].euler,
+                nearest: nearest.as_ref(),
+            },
+        )
+    };
+    let results: Vec<Result<Option<Graft>, SubgridError>> = match fidelity {
+        Fidelity::Input => unfaithful.par_iter().map(|&k| graft_of(k)).collect(),
+        Fidelity::InputWhole | Fidelity::Grid => unfaithful.iter().map(|_| Ok(None)).collect(),
+    };
+    for (&k, grafted) in unfaithful.iter().zip(results) {
+        let grafted = grafted?;
+        for &c in &members[k] {
             delete[c] = true;
         }
-        replaces[k] = group.clone();
+        replaces[k] = members[k].clone();
         if grafted.is_some() {
             counts.grafted += 1;
         } else {
