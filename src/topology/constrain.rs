@@ -33,7 +33,7 @@ use super::field::Field;
 use super::fill::fill;
 use super::isosurface::{place_isosurface, signature};
 use super::keys::{Cell, GridFace, cell_face, cell_neighbour};
-use super::mesh_grid::MeshGrid;
+use super::mesh_grid::{MeshGrid, MeshRaster};
 use super::mismatch::mismatched;
 use super::move_onto::move_onto;
 use super::narrow::changing;
@@ -65,17 +65,20 @@ pub fn constrain_topology(
     theta: &Field,
     options: &TopologyOptions,
 ) -> Result<TopologyReport, TopologyError> {
-    constrain_topology_on(mesh, (theta, &ThetaSurface::of(theta)), options)
+    constrain_topology_on(mesh, (theta, &ThetaSurface::of(theta)), None, options)
 }
 
 /// [`constrain_topology`] with Θ's isosurface extracted beforehand (`ThetaSurface::of(theta)`),
-/// as the tracker does for Φ(T) while registration runs.
+/// as the tracker does for Φ(T) while registration runs, and, where Θ is Φ(M), the raster it
+/// was measured from (`MeshRaster::new` of `mesh.to_indexed()` on Θ's grid), which the cut
+/// reads too. A raster of another mesh or grid is not used.
 pub fn constrain_topology_on(
     mesh: &mut Mesh,
     (theta, iso): (&Field, &ThetaSurface),
+    raster: Option<MeshRaster>,
     options: &TopologyOptions,
 ) -> Result<TopologyReport, TopologyError> {
-    let (mut report, replacement) = resample(mesh, (theta, iso), options)?;
+    let (mut report, replacement) = resample(mesh, (theta, iso), raster, options)?;
     if let Some(replacement) = replacement {
         let reach = options.continue_within * theta.frame().spacing();
         let (replacement, continued) = replacement.continuing(mesh, reach);
@@ -89,6 +92,7 @@ pub fn constrain_topology_on(
 fn resample(
     mesh: &Mesh,
     (theta, theta_surface): (&Field, &ThetaSurface),
+    raster: Option<MeshRaster>,
     options: &TopologyOptions,
 ) -> Result<(TopologyReport, Option<Replacement>), TopologyError> {
     let start = Instant::now();
@@ -98,7 +102,12 @@ fn resample(
         &theta_surface.mesh,
         &theta_surface.signature,
     );
-    let grid = MeshGrid::new(&input, mesh, *theta.frame())?;
+    let grid = match raster {
+        Some(raster) if raster.fits(theta.frame(), input.positions.len()) => {
+            MeshGrid::rastered(&input, mesh, raster)
+        }
+        _ => MeshGrid::new(&input, mesh, *theta.frame())?,
+    };
     let mut checks = Checks::new(&grid, theta);
     let mut report = TopologyReport::default();
     let mut extra: Vec<Cell> = Vec::new();

@@ -7,11 +7,9 @@ use rustc_hash::FxHashMap;
 
 use super::TopologyError;
 use super::field::Field;
+use super::mesh_grid::MeshRaster;
 use crate::compute::Backend;
-use crate::grid::{
-    GridFrame, LatticeMesh, NarrowBand, Windings, edge_faces, footprint, rasterize,
-    signed_distance, sweep,
-};
+use crate::grid::{GridFrame, NarrowBand, Windings, edge_faces, footprint, signed_distance};
 use crate::mesh::IndexedMesh;
 
 /// Half-width of the band `Φ` stores, in cells: both ends of every grid edge the surface crosses
@@ -27,12 +25,18 @@ impl Field {
         frame: GridFrame,
         mesh: &IndexedMesh,
     ) -> Result<Self, TopologyError> {
-        let lattice = LatticeMesh::new(frame, mesh)?;
-        let crossings = rasterize(backend, &lattice)?;
-        let windings = sweep(backend, &crossings)?;
-        let cells = footprint(&lattice, &crossings, &edge_faces(&lattice));
-        let band = signed_distance(backend, &lattice, &cells, &windings, PHI_HALF_WIDTH)?;
-        Ok(Field::from_narrow_band(frame, &band, windings).with_sheets(crossings.all()))
+        Self::of_raster(backend, &MeshRaster::new(backend, frame, mesh)?)
+    }
+
+    /// `Φ` of the mesh rasterized as `raster`, measured on `backend`.
+    pub fn of_raster(backend: &Backend, raster: &MeshRaster) -> Result<Self, TopologyError> {
+        let lattice = &raster.lattice;
+        let cells = footprint(lattice, &raster.crossings, &edge_faces(lattice));
+        let band = signed_distance(backend, lattice, &cells, &raster.windings, PHI_HALF_WIDTH)?;
+        Ok(
+            Field::from_narrow_band(*lattice.frame(), &band, raster.windings.clone())
+                .with_sheets(raster.crossings.all()),
+        )
     }
 
     /// Θ from a narrow band of signed distances (world units) and, beyond it, the inside/outside

@@ -187,6 +187,40 @@ impl Tables {
     }
 }
 
+/// A closed mesh rasterized on a grid: its lattice form, where it crosses the grid's edges, and
+/// the sweep's windings. `Φ(M)` is measured from these, and `ConstrainTopology(M, Φ(M))` cuts M
+/// along the same crossings (paper Algorithm 1, lines 8–9): made once, they serve both.
+#[derive(Debug, Clone)]
+pub struct MeshRaster {
+    pub(crate) lattice: LatticeMesh,
+    pub(crate) crossings: Crossings,
+    pub(crate) windings: Windings,
+}
+
+impl MeshRaster {
+    /// `mesh` rasterized and swept on the grid `frame`, on `backend` (whose kernels give the CPU
+    /// twins' answers exactly).
+    pub fn new(
+        backend: &Backend,
+        frame: GridFrame,
+        mesh: &IndexedMesh,
+    ) -> Result<Self, TopologyError> {
+        let lattice = LatticeMesh::new(frame, mesh)?;
+        let crossings = rasterize(backend, &lattice)?;
+        let windings = sweep(backend, &crossings)?;
+        Ok(Self {
+            lattice,
+            crossings,
+            windings,
+        })
+    }
+
+    /// Whether this is a raster of a mesh of `vertices` vertices on the grid `frame`.
+    pub(crate) fn fits(&self, frame: &GridFrame, vertices: usize) -> bool {
+        self.lattice.frame() == frame && self.lattice.points().len() == vertices
+    }
+}
+
 impl<'a> MeshGrid<'a> {
     /// The mesh `half` (whose indexed form is `mesh`) on the grid `frame`.
     pub fn new(
@@ -194,17 +228,23 @@ impl<'a> MeshGrid<'a> {
         half: &'a Mesh,
         frame: GridFrame,
     ) -> Result<Self, TopologyError> {
-        let lattice = LatticeMesh::new(frame, mesh)?;
-        let crossings = rasterize(&Backend::Cpu, &lattice)?;
-        let windings = sweep(&Backend::Cpu, &crossings)?;
-        Ok(Self {
+        Ok(Self::rastered(
             mesh,
             half,
-            lattice,
-            crossings,
-            windings,
+            MeshRaster::new(&Backend::Cpu, frame, mesh)?,
+        ))
+    }
+
+    /// The mesh `half` (whose indexed form is `mesh`) on the grid of `raster`, a raster of `mesh`.
+    pub fn rastered(mesh: &'a IndexedMesh, half: &'a Mesh, raster: MeshRaster) -> Self {
+        Self {
+            mesh,
+            half,
+            lattice: raster.lattice,
+            crossings: raster.crossings,
+            windings: raster.windings,
             tables: OnceLock::new(),
-        })
+        }
     }
 
     fn tables(&self) -> &Tables {

@@ -51,6 +51,7 @@ pub use distance::PHI_HALF_WIDTH;
 pub(crate) use droplets::{cell, droplets};
 pub use error::TopologyError;
 pub use field::Field;
+pub use mesh_grid::MeshRaster;
 pub use options::{CONTINUE_WITHIN, Moves, TopologyOptions};
 pub use report::{Abandoned, Resampling, TopologyReport};
 pub use theta_surface::ThetaSurface;

@@ -26,7 +26,7 @@ use crate::project::{Bvh, ProjectError, closest_points};
 use crate::register::{RegisterError, RegisterOptions, Target, register};
 use crate::topology::subgrid::{Fidelity, SubgridCounts, SubgridError, match_and_improve};
 use crate::topology::{
-    Field, Moves, ThetaSurface, TopologyError, TopologyOptions, constrain_topology_on,
+    Field, MeshRaster, Moves, ThetaSurface, TopologyError, TopologyOptions, constrain_topology_on,
 };
 use anchor::localized;
 use churn::Marks;
@@ -369,17 +369,20 @@ impl Tracker {
         marks.improve.push(self.improve(frame, &mut times)?);
         // Lines 8–9: merge M's self-intersections, ConstrainTopology(M, Φ(M)).
         let t = Instant::now();
-        let phi_m = Field::signed_distance(backend, self.grid, &self.mesh.to_indexed())
+        // M's raster gives Φ(M) and is where ConstrainTopology cuts M: rasterized once.
+        let raster = MeshRaster::new(backend, self.grid, &self.mesh.to_indexed())
             .map_err(|e| TrackError::at(frame, e))?;
+        let phi_m = Field::of_raster(backend, &raster).map_err(|e| TrackError::at(frame, e))?;
         let (merged, span, continued_self) =
-            self.constrain(frame, (&phi_m, &ThetaSurface::of(&phi_m)))?;
+            self.constrain(frame, (&phi_m, &ThetaSurface::of(&phi_m)), Some(raster))?;
         marks.topology_self = span;
         times.topology_self = ms(t.elapsed());
         // Lines 10–11: take the target's topology, ConstrainTopology(M, Φ(T_j)).
         let t = Instant::now();
         snap::snap(backend, &mut self.mesh, &bvh, self.params.min_angle_degrees)
             .map_err(|e| TrackError::at(frame, e))?;
-        let (constrained, span, continued_target) = self.constrain(frame, (&phi_t, &theta_t))?;
+        let (constrained, span, continued_target) =
+            self.constrain(frame, (&phi_t, &theta_t), None)?;
         marks.topology_target = span;
         times.topology_target = ms(t.elapsed());
         // What the grid cannot see, then line 12: improve (with the match's re-check).
@@ -487,12 +490,14 @@ impl Tracker {
         Ok((converged, phi_t))
     }
 
-    /// `ConstrainTopology(M, Θ)` (paper §4.3); whether it changed the mesh, where its records
-    /// lie in the journal, and the ids of the vertices its patches continued.
+    /// `ConstrainTopology(M, Θ)` (paper §4.3), with M's raster where Θ is Φ(M); whether it
+    /// changed the mesh, where its records lie in the journal, and the ids of the vertices its
+    /// patches continued.
     fn constrain(
         &mut self,
         frame: usize,
         theta: (&Field, &ThetaSurface),
+        raster: Option<MeshRaster>,
     ) -> Result<(bool, Range<usize>, Vec<u64>), TrackError> {
         let mark = self.mesh.journal_len();
         let options = TopologyOptions {
@@ -500,7 +505,7 @@ impl Tracker {
             moves: self.moves(),
             ..self.options.topology
         };
-        let report = constrain_topology_on(&mut self.mesh, theta, &options)
+        let report = constrain_topology_on(&mut self.mesh, theta, raster, &options)
             .map_err(|e| TrackError::at(frame, e))?;
         Ok((
             report.changed(),
