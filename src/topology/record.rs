@@ -21,7 +21,7 @@
 //! the surface it comes from), so every vertex of every frame holds a value and a constant stays
 //! constant. Only when nothing survives are the events left without rules.
 
-use std::cell::OnceCell;
+use std::sync::OnceLock;
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -167,7 +167,7 @@ pub(crate) fn record(
     };
     // The vertices no march reaches (a patch with no boundary) read the nearest survivor; most
     // patches have a boundary, so the survivors' grid is built only where one does not.
-    let survivors = OnceCell::new();
+    let survivors = OnceLock::new();
     let nearest_survivors = |points: Vec<Vec3>| -> Vec<Option<u32>> {
         if points.is_empty() {
             return Vec::new();
@@ -186,135 +186,146 @@ pub(crate) fn record(
             })
             .nearest_each(points.into_par_iter())
     };
-    // Going backward, a deleted vertex reads the new patch at its closest point.
-    let patch = Transfer::new(
-        &built.mesh.positions,
-        built
-            .mesh
-            .triangles
-            .iter()
-            .filter(|t| {
-                t.iter()
-                    .any(|&i| !matches!(built.points[i as usize], Point::Vertex(_)))
-            })
-            .copied()
-            .collect::<Vec<_>>(),
-    );
-    let on_patch = patch.read(
-        &order
-            .iter()
-            .map(|&d| input.positions[d as usize])
-            .collect::<Vec<_>>(),
-        carry,
-    )?;
-    let mut deletions: Vec<Mutation> = Vec::new();
-    let reached: FxHashSet<u32> = order.iter().copied().collect();
-    let unreached: Vec<u32> = deleted
-        .iter()
-        .copied()
-        .filter(|d| !reached.contains(d))
-        .collect();
-    let sources = nearest_survivors(
-        unreached
-            .iter()
-            .map(|&d| input.positions[d as usize])
-            .collect(),
-    );
-    for (d, source) in unreached.into_iter().zip(sources) {
-        deletions.push(Mutation::PatchDeleted {
-            deleted: input_ids[d as usize],
-            sources: source
-                .map(|i| vec![(ids[i as usize], 1.0)])
-                .unwrap_or_default(),
-        });
-    }
-    for ((d, terms), closest) in order.iter().zip(&rules).zip(&on_patch).rev() {
-        deletions.push(Mutation::PatchDeleted {
-            deleted: input_ids[*d as usize],
-            sources: if closest.is_empty() {
-                rule_ids(terms)
-            } else {
-                closest.iter().map(|&(i, w)| (ids[i as usize], w)).collect()
-            },
-        });
-    }
-
-    // New fill vertices: neighbours along the result's edges.
     let fill: Vec<u32> = (0..n_out as u32)
         .filter(|&i| built.points[i as usize].is_fill())
         .collect();
-    let mut adjacent: FxHashMap<u32, Vec<Near>> = FxHashMap::default();
-    for tri in &built.mesh.triangles {
-        for k in 0..3 {
-            let (a, b) = (tri[k], tri[(k + 1) % 3]);
-            for (x, y) in [(a, b), (b, a)] {
-                if built.points[x as usize].is_fill() {
-                    let near = if built.points[y as usize].is_fill() {
-                        Near::Patch(y)
-                    } else {
-                        Near::Boundary(y)
-                    };
-                    adjacent.entry(x).or_default().push(near);
+    // Going backward, the deletions; going forward, the fill. Each reads its own surface: the
+    // two are found side by side.
+    let deletions = || -> Result<Vec<Mutation>, ProjectError> {
+        // Going backward, a deleted vertex reads the new patch at its closest point.
+        let patch = Transfer::new(
+            &built.mesh.positions,
+            built
+                .mesh
+                .triangles
+                .iter()
+                .filter(|t| {
+                    t.iter()
+                        .any(|&i| !matches!(built.points[i as usize], Point::Vertex(_)))
+                })
+                .copied()
+                .collect::<Vec<_>>(),
+        );
+        let on_patch = patch.read(
+            &order
+                .iter()
+                .map(|&d| input.positions[d as usize])
+                .collect::<Vec<_>>(),
+            carry,
+        )?;
+        let mut deletions: Vec<Mutation> = Vec::new();
+        let reached: FxHashSet<u32> = order.iter().copied().collect();
+        let unreached: Vec<u32> = deleted
+            .iter()
+            .copied()
+            .filter(|d| !reached.contains(d))
+            .collect();
+        let sources = nearest_survivors(
+            unreached
+                .iter()
+                .map(|&d| input.positions[d as usize])
+                .collect(),
+        );
+        for (d, source) in unreached.into_iter().zip(sources) {
+            deletions.push(Mutation::PatchDeleted {
+                deleted: input_ids[d as usize],
+                sources: source
+                    .map(|i| vec![(ids[i as usize], 1.0)])
+                    .unwrap_or_default(),
+            });
+        }
+        for ((d, terms), closest) in order.iter().zip(&rules).zip(&on_patch).rev() {
+            deletions.push(Mutation::PatchDeleted {
+                deleted: input_ids[*d as usize],
+                sources: if closest.is_empty() {
+                    rule_ids(terms)
+                } else {
+                    closest.iter().map(|&(i, w)| (ids[i as usize], w)).collect()
+                },
+            });
+        }
+
+        Ok(deletions)
+    };
+    let creations = || -> Result<Vec<Mutation>, ProjectError> {
+        let mut created: Vec<Mutation> = Vec::new();
+        // New fill vertices: neighbours along the result's edges.
+        let mut adjacent: FxHashMap<u32, Vec<Near>> = FxHashMap::default();
+        for tri in &built.mesh.triangles {
+            for k in 0..3 {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                for (x, y) in [(a, b), (b, a)] {
+                    if built.points[x as usize].is_fill() {
+                        let near = if built.points[y as usize].is_fill() {
+                            Near::Patch(y)
+                        } else {
+                            Near::Boundary(y)
+                        };
+                        adjacent.entry(x).or_default().push(near);
+                    }
                 }
             }
         }
-    }
-    for list in adjacent.values_mut() {
-        list.sort_unstable();
-        list.dedup();
-    }
-    let empty = Vec::new();
-    let (order, rules) = march(&fill, |v| adjacent.get(&v).unwrap_or(&empty));
-    // Going forward, a fill vertex reads the old surface (`old`, over the input) at its closest
-    // point.
-    let on_replaced = old.read(
-        &order
-            .iter()
-            .map(|&v| built.mesh.positions[v as usize])
-            .collect::<Vec<_>>(),
-        carry,
-    )?;
-    for ((&v, terms), closest) in order.iter().zip(&rules).zip(&on_replaced) {
-        let sources = if closest.is_empty() {
-            let w = 1.0 / terms.len() as f32;
-            terms
+        for list in adjacent.values_mut() {
+            list.sort_unstable();
+            list.dedup();
+        }
+        let empty = Vec::new();
+        let (order, rules) = march(&fill, |v| adjacent.get(&v).unwrap_or(&empty));
+        // Going forward, a fill vertex reads the old surface (`old`, over the input) at its closest
+        // point.
+        let on_replaced = old.read(
+            &order
                 .iter()
-                .map(|t| match *t {
-                    Near::Boundary(i) | Near::Patch(i) => (ids[i as usize], w),
-                })
-                .collect()
-        } else {
-            closest
-                .iter()
-                .map(|&(u, w)| (input_ids[u as usize], w))
-                .collect()
-        };
-        record.push(Mutation::PatchCreated {
-            created: ids[v as usize],
-            sources,
-        });
-    }
-    let reached: FxHashSet<u32> = order.iter().copied().collect();
-    let unreached: Vec<u32> = fill
-        .iter()
-        .copied()
-        .filter(|v| !reached.contains(v))
-        .collect();
-    let sources = nearest_survivors(
-        unreached
+                .map(|&v| built.mesh.positions[v as usize])
+                .collect::<Vec<_>>(),
+            carry,
+        )?;
+        for ((&v, terms), closest) in order.iter().zip(&rules).zip(&on_replaced) {
+            let sources = if closest.is_empty() {
+                let w = 1.0 / terms.len() as f32;
+                terms
+                    .iter()
+                    .map(|t| match *t {
+                        Near::Boundary(i) | Near::Patch(i) => (ids[i as usize], w),
+                    })
+                    .collect()
+            } else {
+                closest
+                    .iter()
+                    .map(|&(u, w)| (input_ids[u as usize], w))
+                    .collect()
+            };
+            created.push(Mutation::PatchCreated {
+                created: ids[v as usize],
+                sources,
+            });
+        }
+        let reached: FxHashSet<u32> = order.iter().copied().collect();
+        let unreached: Vec<u32> = fill
             .iter()
-            .map(|&v| built.mesh.positions[v as usize])
-            .collect(),
-    );
-    for (v, source) in unreached.into_iter().zip(sources) {
-        record.push(Mutation::PatchCreated {
-            created: ids[v as usize],
-            sources: source
-                .map(|s| vec![(ids[s as usize], 1.0)])
-                .unwrap_or_default(),
-        });
-    }
-    record.extend(deletions);
+            .copied()
+            .filter(|v| !reached.contains(v))
+            .collect();
+        let sources = nearest_survivors(
+            unreached
+                .iter()
+                .map(|&v| built.mesh.positions[v as usize])
+                .collect(),
+        );
+        for (v, source) in unreached.into_iter().zip(sources) {
+            created.push(Mutation::PatchCreated {
+                created: ids[v as usize],
+                sources: source
+                    .map(|s| vec![(ids[s as usize], 1.0)])
+                    .unwrap_or_default(),
+            });
+        }
+        Ok(created)
+    };
+    let (deletions, created) = rayon::join(deletions, creations);
+    record.extend(created?);
+    record.extend(deletions?);
     Ok(Recorded {
         ids,
         record,

@@ -11,7 +11,7 @@
 //! same place is re-sampled (see [`Carry`]).
 
 use std::borrow::Cow;
-use std::cell::OnceCell;
+use std::sync::OnceLock;
 
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
@@ -29,7 +29,7 @@ use crate::project::{Bvh, ProjectError, closest_points};
 pub(crate) struct Transfer<'a> {
     positions: &'a [Vec3],
     triangles: Cow<'a, [[u32; 3]]>,
-    bvh: OnceCell<Option<Bvh>>,
+    bvh: OnceLock<Option<Bvh>>,
 }
 
 impl<'a> Transfer<'a> {
@@ -39,7 +39,7 @@ impl<'a> Transfer<'a> {
         Self {
             positions,
             triangles: triangles.into(),
-            bvh: OnceCell::new(),
+            bvh: OnceLock::new(),
         }
     }
 
