@@ -200,18 +200,15 @@ pub(super) fn decide(
             .copied()
             .collect();
         let same_euler = largest[k].is_some_and(|l| ours[l].euler == theirs[k].euler);
+        let sides = rayon::join(
+            || {
+                let triangles = group.iter().flat_map(|&c| &our_triangles[c]);
+                Side::new(current, triangles.copied().collect())
+            },
+            || Side::new(target, their_triangles[k].clone()),
+        );
         graft::graft(
-            (
-                &Side::new(
-                    current,
-                    group
-                        .iter()
-                        .flat_map(|&c| &our_triangles[c])
-                        .copied()
-                        .collect(),
-                ),
-                &Side::new(target, their_triangles[k].clone()),
-            ),
+            (&sides.0, &sides.1),
             &far,
             group.len() == 1 && same_euler,
             &Bounds {

@@ -124,24 +124,6 @@ const NONE: u32 = u32::MAX;
 
 impl<'a> Side<'a> {
     pub fn new(mesh: &'a IndexedMesh, triangles: Vec<u32>) -> Self {
-        let mut holder: FxHashMap<(u32, u32), u32> =
-            FxHashMap::with_capacity_and_hasher(3 * triangles.len(), Default::default());
-        for (i, &t) in triangles.iter().enumerate() {
-            let tri = mesh.triangles[t as usize];
-            for k in 0..3 {
-                holder.entry((tri[k], tri[(k + 1) % 3])).or_insert(i as u32);
-            }
-        }
-        let across: Vec<[u32; 3]> = triangles
-            .iter()
-            .map(|&t| {
-                let tri = mesh.triangles[t as usize];
-                std::array::from_fn(|k| {
-                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
-                    holder.get(&(b, a)).copied().unwrap_or(NONE)
-                })
-            })
-            .collect();
         let mut first = vec![0u32; mesh.positions.len() + 1];
         for &t in &triangles {
             for v in mesh.triangles[t as usize] {
@@ -159,6 +141,27 @@ impl<'a> Side<'a> {
                 fill[v as usize] += 1;
             }
         }
+        // The triangle across an edge (a, b) is the first around b holding the edge (b, a).
+        let holds = |j: u32, (b, a): (u32, u32)| {
+            let tri = mesh.triangles[triangles[j as usize] as usize];
+            (0..3).any(|m| tri[m] == b && tri[(m + 1) % 3] == a)
+        };
+        let across: Vec<[u32; 3]> = triangles
+            .par_iter()
+            .with_min_len(1024)
+            .map(|&t| {
+                let tri = mesh.triangles[t as usize];
+                std::array::from_fn(|k| {
+                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                    let (start, end) = (first[b as usize], first[b as usize + 1]);
+                    around[start as usize..end as usize]
+                        .iter()
+                        .copied()
+                        .find(|&j| holds(j, (b, a)))
+                        .unwrap_or(NONE)
+                })
+            })
+            .collect();
         let small = small_components(&across);
         Side {
             mesh,
@@ -510,22 +513,24 @@ struct Memo {
 impl Memo {
     fn new(frame: &GridFrame, ours: &Side, theirs: &Side) -> Self {
         let cells = |side: &Side| -> Vec<(u32, Cell)> {
-            let mut vertices: Vec<u32> = (0..side.triangles.len())
-                .flat_map(|i| side.corners(i))
-                .collect();
-            vertices.sort_unstable();
-            vertices.dedup();
-            let mut placed: Vec<(u32, Cell)> = vertices
-                .into_iter()
+            let mut used = vec![false; side.mesh.positions.len()];
+            for i in 0..side.triangles.len() {
+                for v in side.corners(i) {
+                    used[v as usize] = true;
+                }
+            }
+            let mut placed: Vec<(u32, Cell)> = (0..used.len() as u32)
+                .filter(|&v| used[v as usize])
                 .map(|v| (v, cell(frame, side.mesh.positions[v as usize])))
                 .collect();
-            placed.sort_unstable_by_key(|&(v, c)| (c, v));
+            placed.par_sort_unstable_by_key(|&(v, c)| (c, v));
             placed
         };
+        let (ours, theirs) = rayon::join(|| cells(ours), || cells(theirs));
         Memo {
             frame: *frame,
-            ours: cells(ours),
-            theirs: cells(theirs),
+            ours,
+            theirs,
             gaps: FxHashMap::default(),
             strips: FxHashMap::default(),
         }
