@@ -70,8 +70,9 @@ pub fn constrain_topology(
 
 /// [`constrain_topology`] with Θ's isosurface extracted beforehand (`ThetaSurface::of(theta)`),
 /// as the tracker does for Φ(T) while registration runs, and, where Θ is Φ(M), the raster it
-/// was measured from (`MeshRaster::new` of `mesh.to_indexed()` on Θ's grid), which the cut
-/// reads too. A raster of another mesh or grid is not used.
+/// was measured from, which the cut reads too: `MeshRaster::new` of `mesh.to_indexed()` on Θ's
+/// grid, on the CPU (a device's crossings agree with the twin's within a tolerance, and the cut
+/// must see the same ones on either backend). A raster of another mesh or grid is not used.
 pub fn constrain_topology_on(
     mesh: &mut Mesh,
     (theta, iso): (&Field, &ThetaSurface),

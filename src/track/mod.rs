@@ -369,12 +369,15 @@ impl Tracker {
         marks.improve.push(self.improve(frame, &mut times)?);
         // Lines 8–9: merge M's self-intersections, ConstrainTopology(M, Φ(M)).
         let t = Instant::now();
-        // M's raster gives Φ(M) and is where ConstrainTopology cuts M: rasterized once.
+        // M's raster gives Φ(M) and is where ConstrainTopology cuts M: rasterized once. The cut
+        // reads the CPU twin's crossings on either backend (the device's lie within a tolerance
+        // of them, not on them), so a device's raster serves Φ(M) alone.
         let raster = MeshRaster::new(backend, self.grid, &self.mesh.to_indexed())
             .map_err(|e| TrackError::at(frame, e))?;
         let phi_m = Field::of_raster(backend, &raster).map_err(|e| TrackError::at(frame, e))?;
+        let cut_on = matches!(backend, Backend::Cpu).then_some(raster);
         let (merged, span, continued_self) =
-            self.constrain(frame, (&phi_m, &ThetaSurface::of(&phi_m)), Some(raster))?;
+            self.constrain(frame, (&phi_m, &ThetaSurface::of(&phi_m)), cut_on)?;
         marks.topology_self = span;
         times.topology_self = ms(t.elapsed());
         // Lines 10–11: take the target's topology, ConstrainTopology(M, Φ(T_j)).
