@@ -156,7 +156,7 @@ pub fn match_below_grid(
         (target, &input),
         (spacing, max_distance),
         policy,
-        (&mut None, &mut Vec::new()),
+        (&mut None, &mut Vec::new(), &mut None),
     )
 }
 
@@ -165,16 +165,20 @@ pub fn match_below_grid(
 /// replaced by this call's where it measures exactly). The ids of the vertices a copied vertex
 /// continued (see `Replacement::continuing`) go into `continued`. `moves` apply unless the copies
 /// must be the input's own (`Fidelity::InputWhole`) or no vertex continues (`continue_within` 0).
+/// The input's components are found once per frame: `known` holds them after the first call.
 fn match_against(
     backend: &Backend,
     mesh: &mut Mesh,
     (target, input): (&IndexedMesh, &InputDistances),
     (spacing, max_distance): (f32, f32),
     (fidelity, carry, continue_within, moves): (Fidelity, Carry, f32, Moves),
-    (earlier, continued): (&mut Option<Earlier>, &mut Vec<u64>),
+    (earlier, continued, known): (&mut Option<Earlier>, &mut Vec<u64>, &mut Option<Components>),
 ) -> Result<SubgridCounts, SubgridError> {
     let current = mesh.to_indexed();
-    let (ours, theirs) = rayon::join(|| Components::of(&current), || Components::of(target));
+    let (ours, theirs) = match known.take() {
+        Some(theirs) => (Components::of(&current), theirs),
+        None => rayon::join(|| Components::of(&current), || Components::of(target)),
+    };
     let surfaces = Surfaces {
         backend,
         current: &current,
@@ -212,6 +216,7 @@ fn match_against(
             nearest,
         });
     }
+    *known = Some(theirs);
     Ok(plan.counts)
 }
 
@@ -258,9 +263,9 @@ pub fn match_and_improve(
     let input = InputDistances::new(target.1);
     let target = (target.0, &input);
     let bounds = (spacing, max_distance);
-    let mut earlier = None;
+    let (mut earlier, mut theirs) = (None, None);
     let mut matched = |mesh: &mut Mesh| {
-        let memo = (&mut earlier, &mut report.continued);
+        let memo = (&mut earlier, &mut report.continued, &mut theirs);
         match_against(backend, mesh, target, bounds, policy, memo)
     };
     let mut counts = matched(mesh)?;
