@@ -1433,17 +1433,28 @@ fn measured(
     ours: &IndexedMesh,
     theirs: &Side,
 ) -> (IndexedMesh, IndexedMesh, (Vec<u32>, IndexedMesh)) {
-    let part = assemble((&graft.kept, &graft.copied, &graft.zip), ours, theirs.mesh);
-    let joined = assemble((&graft.kept, &[], &graft.zip), ours, theirs.mesh);
-    let mut copied = graft.copied.iter().peekable();
-    let left: Vec<u32> = theirs
-        .triangles
-        .iter()
-        .copied()
-        .filter(|&t| copied.next_if_eq(&&t).is_none())
-        .collect();
-    let mesh = submesh(theirs.mesh, &left);
-    (part, joined, (left, mesh))
+    // Three surfaces of one graft, each assembled on its own.
+    let left_out = || {
+        let mut copied = graft.copied.iter().peekable();
+        let left: Vec<u32> = theirs
+            .triangles
+            .iter()
+            .copied()
+            .filter(|&t| copied.next_if_eq(&&t).is_none())
+            .collect();
+        let mesh = submesh(theirs.mesh, &left);
+        (left, mesh)
+    };
+    let (part, (joined, left)) = rayon::join(
+        || assemble((&graft.kept, &graft.copied, &graft.zip), ours, theirs.mesh),
+        || {
+            rayon::join(
+                || assemble((&graft.kept, &[], &graft.zip), ours, theirs.mesh),
+                left_out,
+            )
+        },
+    );
+    (part, joined, left)
 }
 
 /// Step 4 of the module comment; `theirs` is the input's component grafted in.
