@@ -10,7 +10,10 @@ use surftrack::compute::Backend;
 use surftrack::grid::{GridFrame, ScalarGrid, marching_cubes};
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::project::{Bvh, closest_points};
-use surftrack::topology::{Carry, Field, Moves, TopologyOptions, constrain_topology};
+use surftrack::topology::{
+    Carry, Field, MeshRaster, Moves, ThetaSurface, TopologyOptions, constrain_topology,
+    constrain_topology_on,
+};
 use topology_support::{Case, Kind, Outcome, check, euler_list};
 
 fn frame() -> GridFrame {
@@ -298,6 +301,35 @@ fn two_spheres_overlapping_touching_and_apart() {
         let o = checked(Kind::Target, both, bridge);
         assert!(o.changed);
     }
+}
+
+/// Φ(M)'s own raster handed to the cut (as the tracker does, to rasterize M once) gives the same
+/// result as a cut that rasterizes M itself, vertex for vertex; a raster of another grid is not
+/// used.
+#[test]
+fn the_cut_on_phi_ms_raster_is_the_cut_on_its_own() {
+    let r = 4.0;
+    let a = surface(ball(Vec3::new(-r + 1.0, 0.1, 0.0), r), 0.9);
+    let b = surface(ball(Vec3::new(r - 1.0, 0.0, 0.2), r), 0.85);
+    let both = a.joined(&b);
+    let options = TopologyOptions::default();
+    let run = |raster: Option<MeshRaster>, theta: &Field| {
+        let mut m = Mesh::from_indexed(&both).unwrap();
+        let report =
+            constrain_topology_on(&mut m, (theta, &ThetaSurface::of(theta)), raster, &options)
+                .unwrap();
+        assert!(report.changed(), "the overlapping balls were not merged");
+        let out = m.to_indexed();
+        (out.positions, out.triangles, out.ids)
+    };
+    let raster = MeshRaster::new(&Backend::Cpu, frame(), &both).unwrap();
+    let theta = Field::of_raster(&Backend::Cpu, &raster).unwrap();
+    let own = run(None, &theta);
+    assert_eq!(run(Some(raster), &theta), own);
+    let elsewhere = GridFrame::new(Vec3::splat(0.3), 1.0).unwrap();
+    let other = MeshRaster::new(&Backend::Cpu, elsewhere, &both).unwrap();
+    assert_eq!(run(Some(other), &theta), own);
+    assert_eq!(euler_list(&IndexedMesh::new(own.0, own.1)), vec![2]);
 }
 
 #[test]
