@@ -214,12 +214,7 @@ pub(crate) fn record(
             carry,
         )?;
         let mut deletions: Vec<Mutation> = Vec::new();
-        let reached: FxHashSet<u32> = order.iter().copied().collect();
-        let unreached: Vec<u32> = deleted
-            .iter()
-            .copied()
-            .filter(|d| !reached.contains(d))
-            .collect();
+        let unreached = unreached(&deleted, &order);
         let sources = nearest_survivors(
             unreached
                 .iter()
@@ -301,12 +296,7 @@ pub(crate) fn record(
                 sources,
             });
         }
-        let reached: FxHashSet<u32> = order.iter().copied().collect();
-        let unreached: Vec<u32> = fill
-            .iter()
-            .copied()
-            .filter(|v| !reached.contains(v))
-            .collect();
+        let unreached = unreached(&fill, &order);
         let sources = nearest_survivors(
             unreached
                 .iter()
@@ -333,6 +323,16 @@ pub(crate) fn record(
         patch: fill.len(),
         deleted: deleted.len(),
     })
+}
+
+/// The vertices of `patch` that a march (visiting `order`) did not reach, in `patch`'s order.
+fn unreached(patch: &[u32], order: &[u32]) -> Vec<u32> {
+    let reached: FxHashSet<u32> = order.iter().copied().collect();
+    patch
+        .iter()
+        .copied()
+        .filter(|v| !reached.contains(v))
+        .collect()
 }
 
 /// Breadth-first march over `patch` (vertices whose neighbours are listed by `near`: `Output`
