@@ -198,8 +198,8 @@ pub struct MeshRaster {
 }
 
 impl MeshRaster {
-    /// `mesh` rasterized and swept on the grid `frame`, on `backend` (whose kernels give the CPU
-    /// twins' answers exactly).
+    /// `mesh` rasterized and swept on the grid `frame`, on `backend`. A device's crossings lie
+    /// within a tolerance of the CPU twin's, its windings are the twin's.
     pub fn new(
         backend: &Backend,
         frame: GridFrame,

@@ -165,14 +165,15 @@ pub(crate) fn record(
             })
             .collect()
     };
-    // The vertices no march reaches (a patch with no boundary) read the nearest survivor; most
-    // patches have a boundary, so the survivors' grid is built only where one does not.
+    // The vertices no march reaches (a patch with no boundary) read the nearest survivor whole
+    // (none where nothing survives); most patches have a boundary, so the survivors' grid is
+    // built only where one does not.
     let survivors = OnceLock::new();
-    let nearest_survivors = |points: Vec<Vec3>| -> Vec<Option<u32>> {
+    let nearest_survivors = |points: Vec<Vec3>| -> Vec<Vec<(u64, f32)>> {
         if points.is_empty() {
             return Vec::new();
         }
-        survivors
+        let nearest = survivors
             .get_or_init(|| {
                 Survivors::new(
                     built
@@ -184,7 +185,11 @@ pub(crate) fn record(
                     grid.frame().spacing(),
                 )
             })
-            .nearest_each(points.into_par_iter())
+            .nearest_each(points.into_par_iter());
+        nearest
+            .into_iter()
+            .map(|s| s.map(|i| vec![(ids[i as usize], 1.0)]).unwrap_or_default())
+            .collect()
     };
     let fill: Vec<u32> = (0..n_out as u32)
         .filter(|&i| built.points[i as usize].is_fill())
@@ -221,12 +226,10 @@ pub(crate) fn record(
                 .map(|&d| input.positions[d as usize])
                 .collect(),
         );
-        for (d, source) in unreached.into_iter().zip(sources) {
+        for (d, sources) in unreached.into_iter().zip(sources) {
             deletions.push(Mutation::PatchDeleted {
                 deleted: input_ids[d as usize],
-                sources: source
-                    .map(|i| vec![(ids[i as usize], 1.0)])
-                    .unwrap_or_default(),
+                sources,
             });
         }
         for ((d, terms), closest) in order.iter().zip(&rules).zip(&on_patch).rev() {
@@ -303,12 +306,10 @@ pub(crate) fn record(
                 .map(|&v| built.mesh.positions[v as usize])
                 .collect(),
         );
-        for (v, source) in unreached.into_iter().zip(sources) {
+        for (v, sources) in unreached.into_iter().zip(sources) {
             created.push(Mutation::PatchCreated {
                 created: ids[v as usize],
-                sources: source
-                    .map(|s| vec![(ids[s as usize], 1.0)])
-                    .unwrap_or_default(),
+                sources,
             });
         }
         Ok(created)

@@ -513,14 +513,9 @@ struct Memo {
 impl Memo {
     fn new(frame: &GridFrame, ours: &Side, theirs: &Side) -> Self {
         let cells = |side: &Side| -> Vec<(u32, Cell)> {
-            let mut used = vec![false; side.mesh.positions.len()];
-            for i in 0..side.triangles.len() {
-                for v in side.corners(i) {
-                    used[v as usize] = true;
-                }
-            }
-            let mut placed: Vec<(u32, Cell)> = (0..used.len() as u32)
-                .filter(|&v| used[v as usize])
+            // A side's vertices are those with a selected triangle around them.
+            let mut placed: Vec<(u32, Cell)> = (0..side.mesh.positions.len() as u32)
+                .filter(|&v| !side.around(v).is_empty())
                 .map(|v| (v, cell(frame, side.mesh.positions[v as usize])))
                 .collect();
             placed.par_sort_unstable_by_key(|&(v, c)| (c, v));
