@@ -1131,6 +1131,10 @@ fn shape_cost(angle: f32) -> f32 {
 /// A zip triangle turned against the boundary triangle it meets costs more than any shape.
 const FOLD_COST: f32 = 100.0;
 
+/// Smallest angle, in degrees, at which a zip triangle is known to have an area without the
+/// exact test.
+const CLEARLY_SOUND: f32 = 1.0;
+
 /// A zip triangle of no area (its corners in a line, or two at one place, where a kept vertex
 /// sits on a copied one) would leave the grafted surface invalid: it costs more than any
 /// number of folds, so the strip avoids it wherever another exists.
@@ -1174,8 +1178,14 @@ fn zip_loops(a: &Rim, c: &Rim) -> Vec<[Corner; 3]> {
     let cost = |p: [Vec3; 3], boundary: Option<Vec3>| {
         let normal = (p[1] - p[0]).cross(p[2] - p[0]);
         let folded = boundary.is_some_and(|o| normal.dot(o) < 0.0);
-        let degenerate = degenerate_triangle(p[0], p[1], p[2]);
-        shape_cost(min_angle_degrees(p[0], p[1], p[2]))
+        let angle = min_angle_degrees(p[0], p[1], p[2]);
+        // A smallest angle of a degree or more, even as rounded in `f32`, leaves the triangle
+        // an area of some 10⁻⁴ of its longest edge squared, far above the exact test's bound:
+        // that test (in `f64`) runs only on the others (all three corners at one place give
+        // 180°).
+        let degenerate =
+            !(CLEARLY_SOUND..90.0).contains(&angle) && degenerate_triangle(p[0], p[1], p[2]);
+        shape_cost(angle)
             + if folded { FOLD_COST } else { 0.0 }
             + if degenerate { DEGENERATE_COST } else { 0.0 }
     };
