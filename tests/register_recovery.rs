@@ -7,12 +7,15 @@
 //! surface; snapping removes their offset (a fraction of a cell), which is discretization, not
 //! registration error. Run with `--nocapture` to see the error distributions.
 
+use std::path::Path;
+
 use glam::{Quat, Vec3};
 use surftrack::compute::Backend;
 use surftrack::grid::{ScalarGrid, marching_cubes};
+use surftrack::io::read_frame;
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::project::{Bvh, closest_points};
-use surftrack::register::{RegisterOptions, RegistrationReport, Target, register};
+use surftrack::register::{LinearSolver, RegisterOptions, RegistrationReport, Target, register};
 use surftrack::synth::{Field, RigidTransform};
 
 /// Marching cubes of `field` over `[lo, hi]` with cells of `spacing`, the grid shifted by `jitter`
@@ -293,4 +296,47 @@ fn unfinished_stages_are_reported() {
     assert!(!report.fine.converged);
     assert!(report.fine.rounds.iter().all(|r| !r.converged));
     assert_ne!(mesh.to_indexed().positions, source.positions);
+}
+
+/// A factor kept from an earlier Gauss-Newton iteration solves within `refactor_after`
+/// conjugate-gradient iterations or is refreshed. On a splashing real frame (the drop pool's
+/// frames 30 → 31, meshed independently) kept factors preconditioned so poorly that their solves
+/// took 16–35 iterations; now no iteration that factored nothing spends more than
+/// `refactor_after` per try (the first and each retry), some later iterations refactor instead,
+/// and the registration still converges with every stage monotone.
+#[test]
+fn a_kept_factor_that_solves_slowly_is_refreshed() {
+    let frame = |j: usize| {
+        let path = format!(
+            "{}/tests/data/droppool_mpm_taichi/fluid_mesh_{j:04}.bobj.gz",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        read_frame(Path::new(&path)).unwrap().mesh
+    };
+    let (source, target) = (frame(30), frame(31));
+    let options = RegisterOptions::default();
+    let LinearSolver::PreconditionedCg { refactor_after } = options.coarse.solver else {
+        panic!("the default coarse solver keeps factors");
+    };
+    let mut mesh = Mesh::from_indexed(&source).unwrap();
+    let report = register(&Backend::Cpu, &mut mesh, Target::Mesh(&target), &options).unwrap();
+    print_report(&report);
+    assert!(report.coarse.converged, "{report:#?}");
+    assert_monotone(&report);
+    let mut refreshed = 0;
+    for stage in &report.coarse.stages {
+        for (k, iteration) in stage.iterations.iter().enumerate() {
+            if iteration.factorizations == 0 {
+                assert!(
+                    iteration.cg_iterations <= refactor_after * (iteration.retries + 1),
+                    "α_reg {} iteration {k}: {} iterations from a kept factor",
+                    stage.alpha_reg,
+                    iteration.cg_iterations
+                );
+            } else if k > 0 {
+                refreshed += 1;
+            }
+        }
+    }
+    assert!(refreshed > 0, "no kept factor was refreshed: {report:#?}");
 }

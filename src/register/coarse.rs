@@ -33,7 +33,7 @@ use super::model::{Model, ordered_sum};
 use super::operator::GaussNewton;
 use super::options::{CoarseOptions, LinearSolver, RegisterOptions};
 use super::pattern::{Coupling, Pattern};
-use super::pcg::pcg;
+use super::pcg::{Solve, pcg};
 use super::report::{CoarseReport, IterationReport, StageReport, StepTimes};
 use super::rigid::{Rigid, node_unknowns, prealign};
 use super::small_blocks::SmallBlocks;
@@ -98,6 +98,9 @@ pub struct CoarseSolver<'a> {
     /// The factor does not match the current weights (new stage) or has become a poor
     /// preconditioner.
     stale: bool,
+    /// In this stage a factor kept from an earlier iteration has failed to solve within
+    /// `refactor_after` iterations: every later iteration of the stage refactors first.
+    eager: bool,
     factorizations: usize,
     retries: usize,
     report: CoarseReport,
@@ -202,6 +205,7 @@ impl<'a> CoarseSolver<'a> {
             damping: Damping::none(),
             scale: 1.0,
             stale: true,
+            eager: false,
             factorizations: 0,
             retries: 0,
             surface,
@@ -329,6 +333,12 @@ impl<'a> CoarseSolver<'a> {
     /// iterations it took (about one when the factor is of `JᵀJ` itself: it is a single-precision
     /// factor, see `cholesky`).
     pub fn solve(&mut self) -> Result<usize, RegisterError> {
+        let solve = self.solve_within(self.options.max_cg_iterations)?;
+        Ok(solve.iterations)
+    }
+
+    /// [`CoarseSolver::solve`] stopped after `most` conjugate-gradient iterations.
+    fn solve_within(&mut self, most: usize) -> Result<Solve, RegisterError> {
         let operator = GaussNewton {
             model: &self.model,
             x: &self.x,
@@ -361,7 +371,7 @@ impl<'a> CoarseSolver<'a> {
             &self.rhs,
             &mut self.delta,
             self.options.cg_tolerance,
-            self.options.max_cg_iterations,
+            most,
         );
         if let Some(e) = failed {
             return Err(e);
@@ -369,7 +379,7 @@ impl<'a> CoarseSolver<'a> {
         if solve.iterations > self.refactor_after {
             self.stale = true;
         }
-        Ok(solve.iterations)
+        Ok(solve)
     }
 
     /// Raises the damping for another try; false when the retries are spent. After a rejected step
@@ -596,6 +606,7 @@ impl<'a> CoarseSolver<'a> {
     /// its time, go to `carried`.
     fn take_prepared(&mut self, running: &mut Vec<Running<'_>>, carried: &mut Carried) {
         self.stale = true;
+        self.eager = false;
         let Some(at) = running.iter().position(|r| r.alpha_reg == self.weights.reg) else {
             return;
         };
@@ -664,6 +675,13 @@ impl<'a> CoarseSolver<'a> {
     /// One damped Gauss-Newton step from the current state (energy `e`): solved from the current
     /// factor (refactored first where it is stale), accepted if it lowers the energy, else retried
     /// with raised damping from the same factor (see [`CoarseSolver::raise`]).
+    ///
+    /// A factor kept from an earlier iteration solves within `refactor_after` iterations or not
+    /// at all: where the step moved the correspondences far (real fluid frames), such a solve
+    /// took 30–110 iterations, each a pair of triangular solves through the whole factor, where
+    /// a fresh factor costs about ten and then solves in one. So the solve stops there, the
+    /// factor is refreshed and the step solved again, and the rest of the stage refactors every
+    /// iteration (`eager`) rather than paying for the stopped solve again.
     fn iterate(
         &mut self,
         e: f64,
@@ -673,16 +691,28 @@ impl<'a> CoarseSolver<'a> {
         let t = Instant::now();
         self.assemble_gradient();
         times.assembly += t.elapsed();
+        let mut factored = false;
         loop {
-            if self.stale || self.refactor_after == 0 {
+            if self.stale || self.refactor_after == 0 || (self.eager && !factored) {
                 let t = Instant::now();
                 self.assemble_matrix();
                 times.assembly += t.elapsed();
                 let t = Instant::now();
                 self.factor()?;
                 times.factorization += t.elapsed();
+                factored = true;
             }
-            let (trial, trial_deformed, trial_e) = self.trial(times, cg_iterations)?;
+            let most = if factored {
+                self.options.max_cg_iterations
+            } else {
+                self.refactor_after.min(self.options.max_cg_iterations)
+            };
+            let Some((trial, trial_deformed, trial_e)) = self.trial(most, times, cg_iterations)?
+            else {
+                self.stale = true;
+                self.eager = true;
+                continue;
+            };
             if trial_e.is_finite() && trial_e <= e {
                 let damping = self.damping.lambda();
                 self.lower(e - trial_e);
@@ -700,21 +730,28 @@ impl<'a> CoarseSolver<'a> {
     }
 
     /// The step from the current factor, and where it leads: unknowns, deformed samples, energy.
+    /// `None` where the solve stopped at `most` iterations short of both the tolerance and the
+    /// options' own limit: the factor is to be refreshed.
     fn trial(
         &mut self,
+        most: usize,
         times: &mut StepTimes,
         cg_iterations: &mut usize,
-    ) -> Result<(Vec<f64>, Vec<DVec3>, f64), RegisterError> {
+    ) -> Result<Option<Trial>, RegisterError> {
         let t = Instant::now();
-        *cg_iterations += self.solve()?;
+        let solve = self.solve_within(most)?;
+        *cg_iterations += solve.iterations;
         times.solve += t.elapsed();
+        if !solve.converged && most < self.options.max_cg_iterations {
+            return Ok(None);
+        }
         let t = Instant::now();
         let trial: Vec<f64> = self.x.iter().zip(&self.delta).map(|(a, d)| a + d).collect();
         let trial_deformed = self.model.deform(&trial);
         let w = &self.weights;
         let trial_e = energy(&self.model, &trial, &trial_deformed, &self.current, w).total(w);
         times.evaluation += t.elapsed();
-        Ok((trial, trial_deformed, trial_e))
+        Ok(Some((trial, trial_deformed, trial_e)))
     }
 }
 
@@ -906,6 +943,9 @@ struct Running<'s> {
     alpha_reg: f64,
     handle: ScopedJoinHandle<'s, (Result<Prepared, Cholesky>, Duration)>,
 }
+
+/// A trial step's unknowns, deformed samples and energy.
+type Trial = (Vec<f64>, Vec<DVec3>, f64);
 
 /// What was done for an iteration before it began: reported with it.
 #[derive(Debug, Default)]
