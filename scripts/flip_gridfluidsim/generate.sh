@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Usage: [SCENE=pool_drop|two_columns] generate.sh OUT. Builds GridFluidSim3D (a PIC/FLIP liquid
+# Usage: [SCENE=pool_drop|two_columns] [SUBDIVISION=N] generate.sh OUT. Builds GridFluidSim3D (a PIC/FLIP liquid
 # solver with its own surface mesher), runs the scene SCENE names (default pool_drop) and leaves
 # its frames in OUT/frames: 000000.ply … Needs git, cmake ≥ 3.5, g++, python3 and the OpenCL
 # headers (Debian: opencl-headers opencl-clhpp-headers ocl-icd-opencl-dev); no OpenCL device is
