@@ -709,7 +709,6 @@ impl<'a> CoarseSolver<'a> {
             };
             let Some((trial, trial_deformed, trial_e)) = self.trial(most, times, cg_iterations)?
             else {
-                self.stale = true;
                 self.eager = true;
                 continue;
             };
