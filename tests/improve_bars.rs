@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use surftrack::events::EventList;
 use surftrack::improve::{
     ANGLE_BUCKETS, Assessment, ImproveParams, ImproveReport, Operation, Problem, RATIO_BUCKETS,
-    Refusal, Unfixed, assess, improve, one_sided_hausdorff,
+    Refusal, Unfixed, assess, improve, one_sided_hausdorff, unfixed,
 };
 use surftrack::mesh::{IndexedMesh, Mesh};
 use surftrack::synth::{Scene, SynthOptions, extract, plan};
@@ -31,6 +31,8 @@ struct Outcome {
     before: Assessment,
     after: Assessment,
     report: ImproveReport,
+    /// What the improvement left.
+    left: Vec<Unfixed>,
     moved: f32,
     events: usize,
 }
@@ -45,6 +47,7 @@ fn improve_frame(scene: Scene, index: usize, input: &IndexedMesh) -> Outcome {
     mesh.record_mutations();
     let report = improve(&mut mesh, &params).expect("improve");
     assert!(report.converged, "{what}: rounds ran out");
+    let left = unfixed(&mesh, &params).expect("unfixed");
     let events = EventList::drain(&mut mesh);
     mesh.validate()
         .unwrap_or_else(|e| panic!("{what}: improved mesh invalid: {e}"));
@@ -71,6 +74,7 @@ fn improve_frame(scene: Scene, index: usize, input: &IndexedMesh) -> Outcome {
         before: assess(input, &params),
         after: assess(&improved, &params),
         report,
+        left,
         moved,
         events: events.len(),
     }
@@ -125,7 +129,7 @@ fn check_scene(scene: Scene, indices: &[usize]) {
         accumulate(&mut angles_after, &o.after.min_angle_histogram);
         accumulate(&mut ratios_before, &o.before.edge_ratio_histogram);
         accumulate(&mut ratios_after, &o.after.edge_ratio_histogram);
-        for u in o.report.unfixed {
+        for u in o.left {
             for &reason in &u.refusals {
                 *reasons.entry(reason).or_default() += 1;
             }

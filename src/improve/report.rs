@@ -72,8 +72,6 @@ pub struct ImproveReport {
     pub converged: bool,
     /// How often each reason stopped an attempted fix, in `Refusal` order.
     pub refusals: Vec<(Refusal, usize)>,
-    /// The bad elements that remain, by problem, worst first.
-    pub unfixed: Vec<Unfixed>,
 }
 
 impl ImproveReport {
