@@ -1,7 +1,8 @@
 //! The frame loop of Algorithm 1 over a whole sequence: the first frame starts the tracker, every
-//! later one steps it, the next frame's file is read while this one tracks, and each finished frame
-//! is written (mesh, then events, then `track.json`, each atomically) before the next begins, so a
-//! run killed at any moment resumes from its last complete frame with the same bytes.
+//! later one steps it, the next frame's file is read and made ready for its step (`TargetFrame`:
+//! its tree built) while this one tracks, and each finished frame is written (mesh, then events,
+//! then `track.json`, each atomically) before the next begins, so a run killed at any moment
+//! resumes from its last complete frame with the same bytes.
 
 use super::orientation::{Turned, outward};
 use super::resume::written;
@@ -11,13 +12,40 @@ use crate::compute::Backend;
 use crate::events::EventList;
 use crate::events::file::encode;
 use crate::io::{atomic_write, prepare_output_dir, read_frame, write_ply};
-use crate::mesh::IndexedMesh;
-use crate::track::{FrameLog, TrackOptions, Tracker};
+use crate::mesh::{IndexedMesh, MeshError};
+use crate::track::{FrameLog, TargetFrame, TrackOptions, Tracker};
+use glam::Vec3;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 use std::borrow::Cow;
 use std::path::PathBuf;
 use std::time::Instant;
+
+/// A frame read ahead: made ready for its step (see `TargetFrame`), with what was turned to face
+/// outward and why it is no closed 2-manifold, if it is none.
+struct Ready {
+    target: TargetFrame,
+    turned: Turned,
+    invalid: Option<MeshError>,
+}
+
+impl Ready {
+    /// Frame `k` of `source` for a tracker anchored at `anchor`.
+    fn of(source: &FrameSource, k: usize, anchor: Vec3) -> Result<Self, SequenceError> {
+        let (mesh, turned) = source.get(k)?;
+        let invalid = mesh.validate().err();
+        let target =
+            TargetFrame::new(k, mesh.into_owned(), anchor).map_err(|e| SequenceError::Frame {
+                frame: source.name(k),
+                source: e,
+            })?;
+        Ok(Self {
+            target,
+            turned,
+            invalid,
+        })
+    }
+}
 
 /// Where the frames come from.
 #[derive(Debug, Clone, Copy)]
@@ -185,38 +213,39 @@ where
         }
     };
 
-    let mut next = (state.completed < source.len()).then(|| source.get(state.completed));
+    let anchor = tracker.anchor();
+    let ready = |k: usize| Ready::of(&source, k, anchor);
+    let mut next = (state.completed < source.len()).then(|| ready(state.completed));
     // The previous frame's files, written while this frame tracks.
     let mut pending: Option<FrameWrite<P>> = None;
     for k in state.completed..source.len() {
-        let target = match next.take().expect("the frame was read ahead") {
-            Ok((target, turned)) => {
-                if turned.any() && !warned {
-                    progress(Progress::Warning(turned.warning(&source.name(k))));
-                    warned = true;
-                }
-                target
-            }
+        let current = match next.take().expect("the frame was read ahead") {
+            Ok(current) => current,
             Err(error) => {
-                // The frames tracked before an unreadable one are written all the same.
+                // The frames tracked before an unreadable or unusable one are written all the same.
                 if let Some(write) = pending.take() {
                     state.written.push(write.run()?);
                 }
                 return Err(error);
             }
         };
-        if let Err(e) = target.validate() {
+        if current.turned.any() && !warned {
+            progress(Progress::Warning(current.turned.warning(&source.name(k))));
+            warned = true;
+        }
+        if let Some(e) = current.invalid {
             progress(Progress::Warning(format!(
                 "warning: {}: {e}; using it as a target anyway (only its voxelization and projection are used)",
                 source.name(k)
             )));
         }
+        let target = current.target;
         progress(Progress::Tracking {
             k,
             done: state.completed,
         });
         let (stepped, read, wrote) = std::thread::scope(|scope| {
-            let ahead = (k + 1 < source.len()).then(|| scope.spawn(|| source.get(k + 1)));
+            let ahead = (k + 1 < source.len()).then(|| scope.spawn(|| ready(k + 1)));
             let writing = pending.take().map(|write| scope.spawn(move || write.run()));
             let stepped = tracker.step(backend, k, &target);
             let read = ahead.map(join);

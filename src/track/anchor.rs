@@ -34,11 +34,17 @@ pub fn anchor_of(first: &IndexedMesh) -> Vec3 {
 
 /// `mesh` moved so that `anchor` is its origin.
 pub fn localized(mesh: &IndexedMesh, anchor: Vec3) -> IndexedMesh {
-    let mut local = mesh.clone();
-    for p in &mut local.positions {
-        *p -= anchor;
+    localize(mesh.clone(), anchor)
+}
+
+/// [`localized`], in place.
+pub fn localize(mut mesh: IndexedMesh, anchor: Vec3) -> IndexedMesh {
+    if anchor != Vec3::ZERO {
+        for p in &mut mesh.positions {
+            *p -= anchor;
+        }
     }
-    local
+    mesh
 }
 
 #[cfg(test)]

@@ -13,9 +13,11 @@ mod anchor;
 mod churn;
 mod droplets;
 mod snap;
+mod target;
 
 pub use anchor::anchor_of;
 pub use churn::{Churn, StageChurn};
+pub use target::TargetFrame;
 
 use crate::compute::Backend;
 use crate::events::{EventKind, EventList};
@@ -33,7 +35,6 @@ use churn::Marks;
 use glam::Vec3;
 use rustc_hash::FxHashSet;
 use serde::{Deserialize, Serialize};
-use std::borrow::Cow;
 use std::ops::Range;
 use std::time::{Duration, Instant};
 use thiserror::Error;
@@ -106,6 +107,12 @@ pub enum TrackError {
     Stage { frame: usize, source: StageError },
     #[error("the target edge length {0} is not a positive finite number")]
     EdgeLength(f32),
+    #[error("frame {frame}: the target was moved to anchor {target}, the tracker's is {tracker}")]
+    Anchor {
+        frame: usize,
+        target: Vec3,
+        tracker: Vec3,
+    },
 }
 
 impl TrackError {
@@ -340,31 +347,37 @@ impl Tracker {
         self.params.edge_length
     }
 
-    /// Lines 4–12 of Algorithm 1 for frame `frame` with target `target`.
+    /// Input frame `frame` (world coordinates) made ready for [`Tracker::step`].
+    pub fn target(&self, frame: usize, mesh: IndexedMesh) -> Result<TargetFrame, TrackError> {
+        TargetFrame::new(frame, mesh, self.anchor)
+    }
+
+    /// Lines 4–12 of Algorithm 1 for frame `frame` with target `target`, made for this tracker's
+    /// anchor ([`Tracker::target`], or [`TargetFrame::new`] with [`Tracker::anchor`]).
     pub fn step(
         &mut self,
         backend: &Backend,
         frame: usize,
-        target: &IndexedMesh,
+        target: &TargetFrame,
     ) -> Result<(EventList, FrameLog), TrackError> {
         let start = Instant::now();
-        let target: Cow<IndexedMesh> = if self.anchor == Vec3::ZERO {
-            Cow::Borrowed(target)
-        } else {
-            Cow::Owned(localized(target, self.anchor))
-        };
-        let target = target.as_ref();
+        if target.anchor() != self.anchor {
+            return Err(TrackError::Anchor {
+                frame,
+                target: target.anchor(),
+                tracker: self.anchor,
+            });
+        }
+        // The target's tree serves the projection baseline, the sub-grid match and the residual.
+        let (target, bvh) = (target.mesh(), target.bvh());
         let mut times = StageTimes::default();
         let before: FxHashSet<u64> = self.mesh.vertices().map(|v| self.mesh.id(v)).collect();
         let mut marks = Marks::default();
-        // The target's tree serves the projection baseline, the sub-grid match and the residual.
-        let bvh = Bvh::build(target).map_err(|e| TrackError::at(frame, e))?;
         // Vertices from earlier frames may move along the surface rather than go; this frame's own
         // are thinned as before.
         self.params.relax_below = self.mesh.next_id();
         // Lines 5–6: M follows T_j; Φ(T_j) and its isosurface are made meanwhile.
-        let (converged, (phi_t, theta_t)) =
-            self.follow(backend, frame, target, &bvh, &mut times)?;
+        let (converged, (phi_t, theta_t)) = self.follow(backend, frame, target, bvh, &mut times)?;
         // Line 7: improve.
         marks.improve.push(self.improve(frame, &mut times)?);
         // Lines 8–9: merge M's self-intersections, ConstrainTopology(M, Φ(M)).
@@ -382,7 +395,7 @@ impl Tracker {
         times.topology_self = ms(t.elapsed());
         // Lines 10–11: take the target's topology, ConstrainTopology(M, Φ(T_j)).
         let t = Instant::now();
-        snap::snap(backend, &mut self.mesh, &bvh, self.params.min_angle_degrees)
+        snap::snap(backend, &mut self.mesh, bvh, self.params.min_angle_degrees)
             .map_err(|e| TrackError::at(frame, e))?;
         let (constrained, span, continued_target) =
             self.constrain(frame, (&phi_t, &theta_t), None)?;
@@ -394,7 +407,7 @@ impl Tracker {
         let matched = match_and_improve(
             backend,
             &mut self.mesh,
-            (target, &bvh),
+            (target, bvh),
             (
                 self.grid.spacing(),
                 self.options.max_distance * self.params.edge_length,
@@ -414,7 +427,7 @@ impl Tracker {
         // surface): they go back onto it, by the snap's rules. On the synth morph, where the hole
         // opens, a patch vertex stood 0.66 Δ inside it; now no frame is farther than 0.47 Δ.
         let placed = Instant::now();
-        snap::snap(backend, &mut self.mesh, &bvh, self.params.min_angle_degrees)
+        snap::snap(backend, &mut self.mesh, bvh, self.params.min_angle_degrees)
             .map_err(|e| TrackError::at(frame, e))?;
         times.improve += ms(matched.improve + placed.elapsed());
         marks.subgrid = mark..self.mesh.journal_len();
@@ -429,7 +442,7 @@ impl Tracker {
         let events = EventList::drain(&mut self.mesh);
         self.mesh.compact();
         self.settle();
-        let residual = self.residual(backend, &bvh, frame, &mut times)?;
+        let residual = self.residual(backend, bvh, frame, &mut times)?;
         times.total = ms(start.elapsed());
         let mut log = self.log(
             frame,
