@@ -347,13 +347,8 @@ impl Tracker {
         self.params.edge_length
     }
 
-    /// Input frame `frame` (world coordinates) made ready for [`Tracker::step`].
-    pub fn target(&self, frame: usize, mesh: IndexedMesh) -> Result<TargetFrame, TrackError> {
-        TargetFrame::new(frame, mesh, self.anchor)
-    }
-
     /// Lines 4–12 of Algorithm 1 for frame `frame` with target `target`, made for this tracker's
-    /// anchor ([`Tracker::target`], or [`TargetFrame::new`] with [`Tracker::anchor`]).
+    /// anchor ([`TargetFrame::new`] with [`Tracker::anchor`]).
     pub fn step(
         &mut self,
         backend: &Backend,
