@@ -20,6 +20,18 @@ use rayon::prelude::*;
 /// How far a vertex may move, in the target's mean edge lengths.
 pub const REACH: f32 = 1.0;
 
+/// A triangle with a corner to move: its corners, and its normal and smallest angle before.
+struct Touched {
+    corners: [VertexId; 3],
+    normal: Vec3,
+    angle: f32,
+}
+
+/// The (unnormalized) normal of a triangle.
+fn normal(p: [Vec3; 3]) -> Vec3 {
+    (p[1] - p[0]).cross(p[2] - p[0])
+}
+
 /// Moves every vertex within [`REACH`] of the target behind `bvh` onto its closest point there,
 /// where its triangles stay facing the same way and no thinner than `min_angle` degrees (the
 /// improvement step's limit) unless they were thinner before; returns how many moved.
@@ -39,46 +51,69 @@ pub fn snap(
             moved[v.0 as usize] = Some(n.point);
         }
     }
-    let corners: Vec<[VertexId; 3]> = mesh.faces().map(|f| mesh.face_vertices(f)).collect();
+    // Only a triangle with a corner moved can be spoiled, and undoing a move moves no other
+    // corner: the others are never judged. Each one's shape before the moves is measured once.
+    let touched: Vec<Touched> = mesh
+        .faces()
+        .map(|f| mesh.face_vertices(f))
+        .collect::<Vec<_>>()
+        .into_par_iter()
+        .filter(|c| c.iter().any(|v| moved[v.0 as usize].is_some()))
+        .map(|corners| {
+            let before = corners.map(|v| mesh.position(v));
+            Touched {
+                corners,
+                normal: normal(before),
+                angle: min_angle_degrees(before[0], before[1], before[2]),
+            }
+        })
+        .collect();
     // Whether the moves left spoil the triangle: one with no corner moved is never spoiled.
-    let spoiled = |corners: &[VertexId; 3], moved: &[Option<Vec3>]| {
-        if corners.iter().all(|v| moved[v.0 as usize].is_none()) {
+    let spoiled = |t: &Touched, moved: &[Option<Vec3>]| {
+        if t.corners.iter().all(|v| moved[v.0 as usize].is_none()) {
             return false;
         }
-        let before = corners.map(|v| mesh.position(v));
-        let after = corners.map(|v| moved[v.0 as usize].unwrap_or(mesh.position(v)));
-        let normal = |p: [Vec3; 3]| (p[1] - p[0]).cross(p[2] - p[0]);
-        let angle_before = min_angle_degrees(before[0], before[1], before[2]);
+        let after = t
+            .corners
+            .map(|v| moved[v.0 as usize].unwrap_or(mesh.position(v)));
         let angle_after = min_angle_degrees(after[0], after[1], after[2]);
-        normal(before).dot(normal(after)) <= 0.0 || angle_after < min_angle.min(angle_before)
+        t.normal.dot(normal(after)) <= 0.0 || angle_after < min_angle.min(t.angle)
     };
     // Undoing a move can spoil a triangle whose other corners moved; every round undoes at least
     // one move until none spoils a triangle (at worst, none is left). The triangles are judged in
-    // order, each by the moves left when its turn comes: a round judges them all at its start on
-    // every core, and judges again in turn only those with a corner undone since.
+    // order, each by the moves left when its turn comes: a round judges at its start, on every
+    // core, those with a corner undone in the round before (all of them in the first; the verdict
+    // of any other is the one it had then: not spoiled), and judges again in turn only those with
+    // a corner undone since.
     let mut undone_at = vec![false; slots];
-    loop {
-        let judged: Vec<bool> = corners.par_iter().map(|c| spoiled(c, &moved)).collect();
+    let mut judge: Vec<usize> = (0..touched.len()).collect();
+    while !judge.is_empty() {
+        let mut was = vec![false; touched.len()];
+        let verdicts: Vec<bool> = judge
+            .par_iter()
+            .map(|&i| spoiled(&touched[i], &moved))
+            .collect();
+        for (&i, verdict) in judge.iter().zip(verdicts) {
+            was[i] = verdict;
+        }
         undone_at.iter_mut().for_each(|u| *u = false);
-        let mut undone = false;
-        for (c, &was) in corners.iter().zip(&judged) {
-            let now = if c.iter().any(|v| undone_at[v.0 as usize]) {
-                spoiled(c, &moved)
+        for (t, &was) in touched.iter().zip(&was) {
+            let now = if t.corners.iter().any(|v| undone_at[v.0 as usize]) {
+                spoiled(t, &moved)
             } else {
                 was
             };
             if now {
-                for v in c {
+                for v in t.corners {
                     if moved[v.0 as usize].take().is_some() {
-                        undone = true;
                         undone_at[v.0 as usize] = true;
                     }
                 }
             }
         }
-        if !undone {
-            break;
-        }
+        judge = (0..touched.len())
+            .filter(|&i| touched[i].corners.iter().any(|v| undone_at[v.0 as usize]))
+            .collect();
     }
     let mut count = 0;
     for v in vertices {
