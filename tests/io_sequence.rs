@@ -33,7 +33,36 @@ fn directory_frames_are_ordered_numerically_with_gaps() {
     assert_eq!(numbers(&sequence.frames), [8, 9, 10, 13]);
     assert_eq!(sequence.frames[1].1, dir.path().join("frame_9.obj"));
     assert_eq!(sequence.gaps, [(11, 12)]);
+    assert_eq!(sequence.stride, 1);
+    assert_eq!(sequence.gap_ranges(), ["11..=12"]);
     assert_eq!(sequence.pattern, "frame_*.obj");
+}
+
+#[test]
+fn a_cache_written_every_nth_frame_has_gaps_only_on_its_stride() {
+    let dir = tempfile::tempdir().unwrap();
+    touch(
+        dir.path(),
+        &["f_0000.ply", "f_0003.ply", "f_0006.ply", "f_0009.ply"],
+    );
+    let sequence = discover_sequence(dir.path()).unwrap();
+    assert_eq!(sequence.stride, 3);
+    assert!(sequence.gaps.is_empty());
+
+    touch(dir.path(), &["f_0021.ply", "f_0030.ply"]);
+    let sequence = discover_sequence(dir.path()).unwrap();
+    assert_eq!(sequence.stride, 3);
+    assert_eq!(sequence.gaps, [(12, 18), (24, 27)]);
+    assert_eq!(
+        sequence.gap_ranges(),
+        ["12..=18 (numbered every 3)", "24..=27 (numbered every 3)"]
+    );
+
+    // One frame off the stride makes it 1 again: every other number is then missing.
+    touch(dir.path(), &["f_0031.ply"]);
+    let sequence = discover_sequence(dir.path()).unwrap();
+    assert_eq!(sequence.stride, 1);
+    assert_eq!(sequence.gaps[0], (1, 2));
 }
 
 #[test]

@@ -85,9 +85,9 @@ fn frame_files(input: &Path) -> Result<Vec<PathBuf>, CliError> {
         return Ok(vec![input.to_path_buf()]);
     }
     let sequence = discover_sequence(input)?;
-    for (from, to) in &sequence.gaps {
+    for range in sequence.gap_ranges() {
         eprintln!(
-            "warning: frames {from}..={to} are missing from {}",
+            "warning: frames {range} are missing from {}",
             input.display()
         );
     }

@@ -288,11 +288,9 @@ pub(super) fn input_frames(
 ) -> Result<(Vec<PathBuf>, Vec<String>), CliError> {
     let (sequence, empty) = discover_sequence(input)?.without_empty_ends()?;
     let mut warnings: Vec<String> = sequence
-        .gaps
+        .gap_ranges()
         .iter()
-        .map(|(from, to)| {
-            format!("warning: input frames {from}..={to} are missing; tracking across the gap")
-        })
+        .map(|range| format!("warning: input frames {range} are missing; tracking across the gap"))
         .collect();
     if let (Some((from, to)), Some((first, path))) = (empty.leading, sequence.frames.first()) {
         warnings.push(format!(

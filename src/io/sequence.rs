@@ -1,5 +1,6 @@
 //! Finding the frames of a sequence on disk: every file of one name pattern with a frame number,
-//! in numeric order (9 before 10), with gaps reported.
+//! in numeric order (9 before 10), with gaps reported. A cache written every Nth frame (numbers
+//! 0, 3, 6, …) has its numbers on a stride of N, and only numbers missing on that stride are gaps.
 
 use super::{Format, IoError, ReadOptions, read_frame_with};
 use std::collections::BTreeMap;
@@ -13,7 +14,11 @@ pub struct Sequence {
     /// (`fluid_####.obj`), else `*` for any number of digits (`frame_*.ply`).
     pub pattern: String,
     pub frames: Vec<(i64, PathBuf)>,
-    /// Missing frame numbers as inclusive ranges `(first, last)`.
+    /// The step between frame numbers: the greatest common divisor of the differences between
+    /// consecutive ones (1 for a single frame).
+    pub stride: i64,
+    /// Frame numbers missing on the stride, as inclusive ranges `(first, last)`: from the number
+    /// a stride after a frame to the one a stride before the next.
     pub gaps: Vec<(i64, i64)>,
 }
 
@@ -28,6 +33,17 @@ pub struct EmptyEnds {
 }
 
 impl Sequence {
+    /// Each gap as a user reads it: `from..=to`, with the stride where it is not 1.
+    pub fn gap_ranges(&self) -> Vec<String> {
+        self.gaps
+            .iter()
+            .map(|(from, to)| match self.stride {
+                1 => format!("{from}..={to}"),
+                stride => format!("{from}..={to} (numbered every {stride})"),
+            })
+            .collect()
+    }
+
     /// The sequence without the empty frames (an empty file, or no vertices and no faces) at its
     /// start and its end, and which those were. Frames are read from each end until one is not
     /// empty; one that fails otherwise stops the scan and is left for the tracker to report. Empty
@@ -93,6 +109,7 @@ pub fn discover_sequence(input: &Path) -> Result<Sequence, IoError> {
         Ok(Sequence {
             pattern: name.to_string(),
             frames: vec![(number.unwrap_or(0), input.to_path_buf())],
+            stride: 1,
             gaps: Vec::new(),
         })
     } else {
@@ -260,10 +277,15 @@ fn assemble(
         Some((&w, rest)) if rest.iter().all(|&x| x == w) => "#".repeat(w),
         _ => "*".to_string(),
     };
+    let stride = names
+        .windows(2)
+        .map(|pair| pair[1].0 - pair[0].0)
+        .reduce(gcd)
+        .unwrap_or(1);
     let gaps = names
         .windows(2)
-        .filter(|pair| pair[1].0 - pair[0].0 > 1)
-        .map(|pair| (pair[0].0 + 1, pair[1].0 - 1))
+        .filter(|pair| pair[1].0 - pair[0].0 > stride)
+        .map(|pair| (pair[0].0 + stride, pair[1].0 - stride))
         .collect();
     Ok(Sequence {
         pattern: format!("{prefix}{placeholder}{suffix}"),
@@ -271,6 +293,12 @@ fn assemble(
             .into_iter()
             .map(|(number, name)| (number, dir.join(name)))
             .collect(),
+        stride,
         gaps,
     })
+}
+
+/// The greatest common divisor of two positive numbers.
+fn gcd(a: i64, b: i64) -> i64 {
+    if b == 0 { a } else { gcd(b, a % b) }
 }
