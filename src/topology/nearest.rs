@@ -1,18 +1,37 @@
 //! The nearest surviving vertex of a point: the data source of vertices a topology change creates
 //! or deletes with no patch boundary to average (a droplet appearing or vanishing whole, §4.4).
 
-use glam::{IVec3, Vec3};
+use glam::{I64Vec3, IVec3, Vec3};
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
-/// A uniform hash grid over the vertices that exist both before and after a topology change.
+/// A uniform grid of buckets over the vertices that exist both before and after a topology
+/// change.
 pub(crate) struct Survivors {
     cell: f32,
-    buckets: FxHashMap<IVec3, Vec<(u32, Vec3)>>,
+    /// The points, sorted by bucket: each bucket's are a run of them. A query that searches
+    /// beyond [`RINGS`] rings compares them all.
+    points: Vec<(u32, Vec3)>,
+    index: Index,
+    /// The first and last bucket along each axis holding a point.
     bounds: (IVec3, IVec3),
-    /// Every point, for a query whose nearest survivor lies beyond [`RINGS`] rings.
-    all: Vec<(u32, Vec3)>,
 }
+
+/// Where each bucket's run of points lies. A query looks up dozens of buckets (a ring of `r`
+/// holds about 24·r² of them), each a hash lookup in a sparse index; over a box of buckets few
+/// enough to list, each is an array read instead (on the dam break's splash frames, queries of
+/// the graft's seeds and of the transfer spent most of their time in those lookups).
+enum Index {
+    /// Where each bucket's run starts, for every bucket of the bounds' box (x fastest), and one
+    /// past the last.
+    Dense { size: IVec3, starts: Vec<u32> },
+    /// Each bucket holding points, and its run.
+    Sparse(FxHashMap<IVec3, (u32, u32)>),
+}
+
+/// Boxes of at most this many buckets per point, plus [`DENSE_FLOOR`], are indexed densely.
+const DENSE_PER_POINT: usize = 8;
+const DENSE_FLOOR: usize = 1 << 20;
 
 /// Rings of buckets a query searches before it compares every point instead. Ring `r` holds
 /// about 24·r² buckets, so a survivor many cells away (the vertices of a whole component
@@ -29,20 +48,73 @@ impl Survivors {
         } else {
             1.0
         };
-        let mut buckets: FxHashMap<IVec3, Vec<(u32, Vec3)>> = FxHashMap::default();
-        let mut bounds = (IVec3::MAX, IVec3::MIN);
-        let all: Vec<(u32, Vec3)> = points.into_iter().filter(|(_, p)| p.is_finite()).collect();
-        for &(v, p) in &all {
-            let key = (p / cell).floor().as_ivec3();
-            bounds = (bounds.0.min(key), bounds.1.max(key));
-            buckets.entry(key).or_default().push((v, p));
-        }
+        let key = |p: Vec3| (p / cell).floor().as_ivec3();
+        let mut points: Vec<(u32, Vec3)> =
+            points.into_iter().filter(|(_, p)| p.is_finite()).collect();
+        let bounds = points.iter().fold((IVec3::MAX, IVec3::MIN), |b, &(_, p)| {
+            (b.0.min(key(p)), b.1.max(key(p)))
+        });
+        let size = (bounds.1.as_i64vec3() - bounds.0.as_i64vec3() + 1).max(I64Vec3::ZERO);
+        let buckets = size.x.saturating_mul(size.y).saturating_mul(size.z);
+        let dense = !points.is_empty()
+            && usize::try_from(buckets)
+                .is_ok_and(|b| b <= DENSE_PER_POINT * points.len() + DENSE_FLOOR);
+        let index = if dense {
+            let size = size.as_ivec3();
+            let slot = |p: Vec3| linear(key(p) - bounds.0, size);
+            let mut starts = vec![0u32; size.x as usize * size.y as usize * size.z as usize + 1];
+            for &(_, p) in &points {
+                starts[slot(p) + 1] += 1;
+            }
+            for k in 1..starts.len() {
+                starts[k] += starts[k - 1];
+            }
+            let mut next = starts.clone();
+            let mut sorted = vec![(0, Vec3::ZERO); points.len()];
+            for &(v, p) in &points {
+                let at = &mut next[slot(p)];
+                sorted[*at as usize] = (v, p);
+                *at += 1;
+            }
+            points = sorted;
+            Index::Dense { size, starts }
+        } else {
+            let order = |p: Vec3| {
+                let k = key(p);
+                (k.z, k.y, k.x)
+            };
+            points.sort_by_key(|&(v, p)| (order(p), v));
+            let mut runs: FxHashMap<IVec3, (u32, u32)> = FxHashMap::default();
+            for (i, &(_, p)) in points.iter().enumerate() {
+                runs.entry(key(p)).or_insert((i as u32, i as u32)).1 = i as u32 + 1;
+            }
+            Index::Sparse(runs)
+        };
         Self {
             cell,
-            buckets,
+            points,
+            index,
             bounds,
-            all,
         }
+    }
+
+    /// The points in bucket `key`.
+    fn bucket(&self, key: IVec3) -> &[(u32, Vec3)] {
+        let run = match &self.index {
+            Index::Dense { size, starts } => {
+                let local = key.as_i64vec3() - self.bounds.0.as_i64vec3();
+                if local.cmplt(I64Vec3::ZERO).any() || local.cmpge(size.as_i64vec3()).any() {
+                    return &[];
+                }
+                let slot = linear(local.as_ivec3(), *size);
+                (starts[slot], starts[slot + 1])
+            }
+            Index::Sparse(runs) => match runs.get(&key) {
+                Some(&run) => run,
+                None => return &[],
+            },
+        };
+        &self.points[run.0 as usize..run.1 as usize]
     }
 
     /// The survivor nearest to `p` (ties to the lower vertex index, so the answer is
@@ -55,7 +127,7 @@ impl Survivors {
     /// rings of buckets wholly beyond `within` are not searched, so a query with nothing near
     /// costs a few rings rather than a pass over every point.
     pub(crate) fn nearest_within(&self, p: Vec3, within: f32) -> Option<u32> {
-        if self.buckets.is_empty() || !p.is_finite() {
+        if self.points.is_empty() || !p.is_finite() {
             return None;
         }
         let centre = (p / self.cell).floor().as_ivec3();
@@ -83,13 +155,13 @@ impl Survivors {
                 break;
             }
             if ring > RINGS {
-                for &point in &self.all {
+                for &point in &self.points {
                     closer(&mut best, point);
                 }
                 break;
             }
             for key in shell(centre, ring) {
-                for &point in self.buckets.get(&key).into_iter().flatten() {
+                for &point in self.bucket(key) {
                     closer(&mut best, point);
                 }
             }
@@ -115,6 +187,11 @@ impl Survivors {
     ) -> Vec<Option<u32>> {
         points.map(|p| self.nearest(p)).collect()
     }
+}
+
+/// The index of bucket `local` (relative to the box's first) in a box of `size`, x fastest.
+fn linear(local: IVec3, size: IVec3) -> usize {
+    local.x as usize + size.x as usize * (local.y as usize + size.y as usize * local.z as usize)
 }
 
 /// The keys at Chebyshev distance exactly `ring` from `centre`: whole columns of `z` where `x` or
@@ -185,6 +262,43 @@ mod tests {
             }
         }
         assert_eq!(Survivors::new([], 1.0).nearest(Vec3::ZERO), None);
+    }
+
+    /// Two clusters a hundred thousand buckets apart are too wide a box to list: their buckets
+    /// are indexed sparsely, one cluster alone densely, and both answer as comparing every point.
+    #[test]
+    fn sparse_and_dense_indices_give_the_brute_force_nearest() {
+        let cluster = |origin: Vec3, first: u32| -> Vec<(u32, Vec3)> {
+            (0..300u32)
+                .map(|i| {
+                    let t = i as f32;
+                    let q = Vec3::new((t * 1.3).sin(), (t * 0.7).cos(), (t * 0.11).sin()) * 4.0;
+                    (first + i, origin + q)
+                })
+                .collect()
+        };
+        let near = cluster(Vec3::ZERO, 0);
+        let mut both = near.clone();
+        both.extend(cluster(Vec3::new(1.0e5, -2.0e5, 5.0e4), 1000));
+        let dense = Survivors::new(near.clone(), 0.5);
+        let sparse = Survivors::new(both.clone(), 0.5);
+        assert!(matches!(dense.index, Index::Dense { .. }));
+        assert!(matches!(sparse.index, Index::Sparse(_)));
+        for k in 0..200 {
+            let k = k as f32;
+            let p = Vec3::new(
+                (k * 0.37).cos() * 6.0,
+                (k * 0.21).sin() * 5.0,
+                k * 0.04 - 4.0,
+            );
+            assert_eq!(dense.nearest(p), brute_nearest(&near, p), "query {p}");
+            assert_eq!(sparse.nearest(p), brute_nearest(&both, p), "query {p}");
+            assert_eq!(
+                sparse.nearest_within(p, 1.0),
+                dense.nearest_within(p, 1.0),
+                "query {p}"
+            );
+        }
     }
 
     /// Points on a lattice that shares the buckets' planes, and queries on bucket faces and at
