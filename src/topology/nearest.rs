@@ -29,9 +29,10 @@ enum Index {
     Sparse(FxHashMap<IVec3, (u32, u32)>),
 }
 
-/// Boxes of at most this many buckets per point, plus [`DENSE_FLOOR`], are indexed densely.
-const DENSE_PER_POINT: usize = 8;
-const DENSE_FLOOR: usize = 1 << 20;
+/// Boxes of at most this many buckets per point, plus [`DENSE_FLOOR`], are indexed densely: the
+/// dam break's main body (17k vertices) spans about 180k buckets of one grid spacing.
+const DENSE_PER_POINT: usize = 16;
+const DENSE_FLOOR: usize = 4096;
 
 /// Rings of buckets a query searches before it compares every point instead. Ring `r` holds
 /// about 24·r² buckets, so a survivor many cells away (the vertices of a whole component
@@ -98,6 +99,56 @@ impl Survivors {
         }
     }
 
+    /// Hands `visit` the points of every bucket at Chebyshev distance exactly `ring` from
+    /// `centre`: along x, the whole row where y or z lies on the shell's side, only its two ends
+    /// elsewhere. With the dense index a row's buckets are consecutive, and so are their points:
+    /// one run a row.
+    fn shell(&self, centre: IVec3, ring: i32, mut visit: impl FnMut(&[(u32, Vec3)])) {
+        for z in -ring..=ring {
+            for y in -ring..=ring {
+                // Ring 0 is a single bucket, and on its side.
+                let on_side = y.abs() == ring || z.abs() == ring;
+                let at = |x: i32| centre + IVec3::new(x, y, z);
+                match &self.index {
+                    Index::Dense { size, starts } if on_side => {
+                        visit(self.dense_row((at(-ring), at(ring)), *size, starts));
+                    }
+                    _ => {
+                        let step = if on_side { 1 } else { 2 * ring as usize };
+                        for x in (-ring..=ring).step_by(step) {
+                            visit(self.bucket(at(x)));
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The points of the buckets from `first` to `last` (one row along x) of the dense index.
+    fn dense_row(
+        &self,
+        (first, last): (IVec3, IVec3),
+        size: IVec3,
+        starts: &[u32],
+    ) -> &[(u32, Vec3)] {
+        let local = |key: IVec3| key.as_i64vec3() - self.bounds.0.as_i64vec3();
+        let (mut first, mut last) = (local(first), local(last));
+        let size = size.as_i64vec3();
+        if first.y < 0 || first.y >= size.y || first.z < 0 || first.z >= size.z {
+            return &[];
+        }
+        first.x = first.x.max(0);
+        last.x = last.x.min(size.x - 1);
+        if first.x > last.x {
+            return &[];
+        }
+        let (a, b) = (
+            starts[linear(first.as_ivec3(), size.as_ivec3())],
+            starts[linear(last.as_ivec3(), size.as_ivec3()) + 1],
+        );
+        &self.points[a as usize..b as usize]
+    }
+
     /// The points in bucket `key`.
     fn bucket(&self, key: IVec3) -> &[(u32, Vec3)] {
         let run = match &self.index {
@@ -160,11 +211,11 @@ impl Survivors {
                 }
                 break;
             }
-            for key in shell(centre, ring) {
-                for &point in self.bucket(key) {
+            self.shell(centre, ring, |points| {
+                for &point in points {
                     closer(&mut best, point);
                 }
-            }
+            });
         }
         best.map(|(_, v)| v)
     }
@@ -192,22 +243,6 @@ impl Survivors {
 /// The index of bucket `local` (relative to the box's first) in a box of `size`, x fastest.
 fn linear(local: IVec3, size: IVec3) -> usize {
     local.x as usize + size.x as usize * (local.y as usize + size.y as usize * local.z as usize)
-}
-
-/// The keys at Chebyshev distance exactly `ring` from `centre`: whole columns of `z` where `x` or
-/// `y` lies on the shell's side, only its two ends elsewhere (no allocation: a query visits
-/// dozens of columns).
-fn shell(centre: IVec3, ring: i32) -> impl Iterator<Item = IVec3> {
-    (-ring..=ring).flat_map(move |x| {
-        (-ring..=ring).flat_map(move |y| {
-            // Ring 0 is a single key, and on its side.
-            let on_side = x.abs() == ring || y.abs() == ring;
-            let step = if on_side { 1 } else { 2 * ring as usize };
-            (-ring..=ring)
-                .step_by(step)
-                .map(move |z| centre + IVec3::new(x, y, z))
-        })
-    })
 }
 
 #[cfg(test)]
