@@ -77,14 +77,6 @@ pub(crate) struct Rows<T> {
 }
 
 impl<T> Rows<T> {
-    fn from_rows(rows: Vec<Vec<T>>) -> Self {
-        let starts = row_starts(rows.iter().map(|r| r.len() as u32));
-        Self {
-            starts,
-            items: rows.into_iter().flatten().collect(),
-        }
-    }
-
     pub fn row(&self, r: usize) -> &[T] {
         &self.items[self.starts[r] as usize..self.starts[r + 1] as usize]
     }
@@ -136,35 +128,46 @@ impl Tables {
     fn new(mesh: &IndexedMesh, half: &Mesh, lattice: &LatticeMesh, crossings: &Crossings) -> Self {
         let edges = EdgeTable::new(mesh, half);
         let points = lattice.points();
-        let rows: Vec<Vec<Pierce>> = edges
+        // Blocks of edges each fill one list, every edge's planes a run of it: most edges
+        // pierce one or two, and a list per edge cost an allocation each.
+        let blocks: Vec<(Vec<u32>, Vec<Pierce>)> = edges
             .verts
-            .par_iter()
-            .with_min_len(1024)
-            .map(|[a, b]| {
-                let (p, q) = (&points[*a as usize], &points[*b as usize]);
-                if p.cell == q.cell {
-                    return Vec::new();
+            .par_chunks(1024)
+            .map(|block| {
+                let mut lengths = Vec::with_capacity(block.len());
+                let mut items: Vec<Pierce> = Vec::new();
+                for [a, b] in block {
+                    let start = items.len();
+                    let (p, q) = (&points[*a as usize], &points[*b as usize]);
+                    if p.cell != q.cell {
+                        let seg = Segment::new(p, q);
+                        items.extend((0..3).flat_map(|axis| {
+                            seg.planes(axis).map(move |plane| Pierce {
+                                axis: axis as u8,
+                                plane,
+                                face: seg.face(axis, plane),
+                            })
+                        }));
+                        items[start..].sort_by(|x, y| {
+                            seg.compare(
+                                (usize::from(x.axis), x.plane),
+                                (usize::from(y.axis), y.plane),
+                            )
+                        });
+                    }
+                    lengths.push((items.len() - start) as u32);
                 }
-                let seg = Segment::new(p, q);
-                let mut row: Vec<Pierce> = (0..3)
-                    .flat_map(|axis| {
-                        seg.planes(axis).map(move |plane| Pierce {
-                            axis: axis as u8,
-                            plane,
-                            face: seg.face(axis, plane),
-                        })
-                    })
-                    .collect();
-                row.sort_by(|x, y| {
-                    seg.compare(
-                        (usize::from(x.axis), x.plane),
-                        (usize::from(y.axis), y.plane),
-                    )
-                });
-                row
+                (lengths, items)
             })
             .collect();
-        let pierces = Rows::from_rows(rows);
+        let pierces = Rows {
+            starts: row_starts(
+                blocks
+                    .iter()
+                    .flat_map(|(lengths, _)| lengths.iter().copied()),
+            ),
+            items: blocks.into_iter().flat_map(|(_, items)| items).collect(),
+        };
         let mut pierced: Vec<(GridFace, u32)> = (0..edges.verts.len())
             .into_par_iter()
             .flat_map_iter(|e| {
