@@ -13,7 +13,7 @@
 use std::borrow::Cow;
 use std::sync::OnceLock;
 
-use glam::{IVec3, Vec3};
+use glam::{I64Vec3, IVec3, Vec3};
 use rayon::prelude::*;
 use rustc_hash::FxHashSet;
 use serde::{Deserialize, Serialize};
@@ -181,33 +181,96 @@ pub(crate) fn triangles_around(
         .map(|(v, p)| v.map(|v| positions[v as usize].distance(*p).min(reach)))
         .collect();
     let key = |p: Vec3| (p / cell).floor().as_ivec3();
-    let mut near: FxHashSet<IVec3> = FxHashSet::default();
+    let mut cubes: Vec<(IVec3, IVec3)> = Vec::with_capacity(points.len());
     for (p, r) in points.iter().zip(&half) {
         let Some(r) = *r else { continue };
         let (low, high) = (key(*p - Vec3::splat(r)), key(*p + Vec3::splat(r)));
         if (high - low).max_element() > AROUND_CELLS {
             return triangles.to_vec();
         }
-        for x in low.x..=high.x {
-            for y in low.y..=high.y {
-                for z in low.z..=high.z {
-                    near.insert(IVec3::new(x, y, z));
-                }
-            }
-        }
+        cubes.push((low, high));
     }
+    let near = NearCells::new(&cubes);
     triangles
         .par_iter()
         .filter(|t| {
             let [a, b, c] = t.map(|v| positions[v as usize]);
-            let (low, high) = (key(a.min(b).min(c)), key(a.max(b).max(c)));
-            (low.x..=high.x).any(|x| {
-                (low.y..=high.y)
-                    .any(|y| (low.z..=high.z).any(|z| near.contains(&IVec3::new(x, y, z))))
-            })
+            near.meets(key(a.min(b).min(c)), key(a.max(b).max(c)))
         })
         .copied()
         .collect()
+}
+
+/// The cells of some cubes, for asking whether a box of cells meets any of them: marked in an
+/// array over the cubes' bounding box where that box is small enough to list (most are: the
+/// points of one re-sampling lie in one part of the mesh), else in a hash set. Every triangle of
+/// the surface asks, and most lie outside that box.
+enum NearCells {
+    Listed {
+        low: IVec3,
+        size: IVec3,
+        marked: Vec<bool>,
+    },
+    Hashed(FxHashSet<IVec3>),
+}
+
+/// Bounding boxes of at most this many cells are listed.
+const LISTED_CELLS: i64 = 1 << 22;
+
+impl NearCells {
+    fn new(cubes: &[(IVec3, IVec3)]) -> Self {
+        let (low, high) = cubes.iter().fold((IVec3::MAX, IVec3::MIN), |(l, h), c| {
+            (l.min(c.0), h.max(c.1))
+        });
+        let size = (high.as_i64vec3() - low.as_i64vec3() + 1).max(I64Vec3::ZERO);
+        let cells = size.x.saturating_mul(size.y).saturating_mul(size.z);
+        let every = || {
+            cubes.iter().flat_map(|&(l, h)| {
+                (l.z..=h.z).flat_map(move |z| {
+                    (l.y..=h.y).flat_map(move |y| (l.x..=h.x).map(move |x| IVec3::new(x, y, z)))
+                })
+            })
+        };
+        if !cubes.is_empty() && cells <= LISTED_CELLS {
+            let size = size.as_ivec3();
+            let mut marked = vec![false; cells as usize];
+            for c in every() {
+                marked[listed(c - low, size)] = true;
+            }
+            NearCells::Listed { low, size, marked }
+        } else {
+            NearCells::Hashed(every().collect())
+        }
+    }
+
+    /// Whether the box of cells from `low` to `high` holds a marked cell.
+    fn meets(&self, low: IVec3, high: IVec3) -> bool {
+        match self {
+            NearCells::Listed {
+                low: start,
+                size,
+                marked,
+            } => {
+                let end = *start + *size - 1;
+                let (low, high) = (low.max(*start), high.min(end));
+                (low.z..=high.z).any(|z| {
+                    (low.y..=high.y).any(|y| {
+                        (low.x..=high.x)
+                            .any(|x| marked[listed(IVec3::new(x, y, z) - *start, *size)])
+                    })
+                })
+            }
+            NearCells::Hashed(set) => (low.x..=high.x).any(|x| {
+                (low.y..=high.y)
+                    .any(|y| (low.z..=high.z).any(|z| set.contains(&IVec3::new(x, y, z))))
+            }),
+        }
+    }
+}
+
+/// The index of cell `local` (relative to the box's first) in a box of `size`, x fastest.
+fn listed(local: IVec3, size: IVec3) -> usize {
+    local.x as usize + size.x as usize * (local.y as usize + size.y as usize * local.z as usize)
 }
 
 /// How many cells across the cube around a point [`triangles_around`] keeps triangles in may
@@ -228,6 +291,38 @@ fn tree_of(positions: &[Vec3], triangles: &[[u32; 3]]) -> Result<Option<Bvh>, Pr
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Cubes spread too wide to list are hashed, and a box of cells meets them as it meets the
+    /// listed ones.
+    #[test]
+    fn listed_and_hashed_cells_agree() {
+        let near: Vec<(IVec3, IVec3)> = (0..40)
+            .map(|k| {
+                let low = IVec3::new(k % 7 * 3, k % 5 * 2 - 4, k / 3);
+                (low, low + IVec3::new(k % 3, 1, k % 2))
+            })
+            .collect();
+        let mut wide = near.clone();
+        wide.push((IVec3::splat(100_000), IVec3::splat(100_001)));
+        let (listed, hashed) = (NearCells::new(&near), NearCells::new(&wide));
+        assert!(matches!(listed, NearCells::Listed { .. }));
+        assert!(matches!(hashed, NearCells::Hashed(_)));
+        let mut met = 0;
+        for x in -3..24 {
+            for y in -7..8 {
+                for z in -2..16 {
+                    let low = IVec3::new(x, y, z);
+                    let high = low + IVec3::new(x.rem_euclid(2), 0, z.rem_euclid(3));
+                    let meets = listed.meets(low, high);
+                    assert_eq!(meets, hashed.meets(low, high), "box {low} {high}");
+                    met += usize::from(meets);
+                }
+            }
+        }
+        assert!(met > 100 && met < 27 * 15 * 18);
+        assert!(hashed.meets(IVec3::splat(100_001), IVec3::splat(100_003)));
+        assert!(!listed.meets(IVec3::splat(100_001), IVec3::splat(100_003)));
+    }
 
     /// Around a few points, on and off a bumpy sphere and beside each other, the triangles kept
     /// answer as the whole surface does, and are fewer; a point far from every corner keeps them
