@@ -369,24 +369,48 @@ impl<'a> Placed<'a> {
 
     /// Per distinct cell, the clusters holding it once grown by one: those with a cell among
     /// its 27 neighbours (itself included), in increasing order. A vertex's clusters are read
-    /// from its cell's, so no cluster is ever dilated. Each cluster's cells hand their
-    /// neighbours among the mesh's cells their cluster: the clusters' cells are far fewer than
-    /// the mesh's (split rounds ask again for every part).
+    /// from its cell's, so no cluster is ever dilated. Where the clusters' cells are far fewer
+    /// than the mesh's (the seeds' clusters), each hands its neighbours among the mesh's cells
+    /// its cluster; otherwise (a split round's parts, every cut of every cluster) each of the
+    /// mesh's cells looks its neighbours up among the clusters'.
     fn holders(&self, clusters: &[Vec<Cell>]) -> Vec<Vec<u32>> {
-        let mut held: Vec<Vec<u32>> = vec![Vec::new(); self.cells.len()];
-        for (k, cells) in clusters.iter().enumerate() {
-            for c in cells {
-                for d in &NEIGHBOURS {
-                    let n = [c[0] + d[0], c[1] + d[1], c[2] + d[2]];
-                    if let Ok(i) = self.cells.binary_search(&n)
-                        && held[i].last() != Some(&(k as u32))
-                    {
-                        held[i].push(k as u32);
+        let listed: usize = clusters.iter().map(Vec::len).sum();
+        if 2 * listed <= self.cells.len() {
+            let mut held: Vec<Vec<u32>> = vec![Vec::new(); self.cells.len()];
+            for (k, cells) in clusters.iter().enumerate() {
+                for c in cells {
+                    for d in &NEIGHBOURS {
+                        let n = [c[0] + d[0], c[1] + d[1], c[2] + d[2]];
+                        if let Ok(i) = self.cells.binary_search(&n)
+                            && held[i].last() != Some(&(k as u32))
+                        {
+                            held[i].push(k as u32);
+                        }
                     }
                 }
             }
+            return held;
         }
-        held
+        let mut at: FxHashMap<Cell, Vec<u32>> = FxHashMap::default();
+        for (k, cells) in clusters.iter().enumerate() {
+            for &c in cells {
+                at.entry(c).or_default().push(k as u32);
+            }
+        }
+        self.cells
+            .par_iter()
+            .map(|c| {
+                let mut held: Vec<u32> = NEIGHBOURS
+                    .iter()
+                    .filter_map(|d| at.get(&[c[0] + d[0], c[1] + d[1], c[2] + d[2]]))
+                    .flatten()
+                    .copied()
+                    .collect();
+                held.sort_unstable();
+                held.dedup();
+                held
+            })
+            .collect()
     }
 }
 
