@@ -170,15 +170,87 @@ pub fn cells_around(c: &GridCrossing) -> [[i32; 3]; 4] {
 /// every face crossing (`faces`, from [`edge_faces`]) and the four cells around every grid-edge
 /// crossing. Its size follows the surface's area; it is what the grid stores per cell.
 pub fn footprint(mesh: &LatticeMesh, crossings: &Crossings, faces: &[EdgeFace]) -> Vec<[i32; 3]> {
-    let mut keys: Vec<u64> = mesh.points().par_iter().map(|p| cell_key(p.cell)).collect();
-    keys.par_extend(faces.par_iter().flat_map_iter(|f| f.cells().map(cell_key)));
-    keys.par_extend(
-        crossings
-            .all()
-            .par_iter()
-            .flat_map_iter(|c| cells_around(c).map(cell_key)),
-    );
-    keys.par_sort_unstable();
-    keys.dedup();
-    keys.par_iter().map(|&k| key_cell(k)).collect()
+    let met: Vec<[i32; 3]> = mesh
+        .points()
+        .par_iter()
+        .map(|p| p.cell)
+        .chain(faces.par_iter().flat_map_iter(|f| f.cells()))
+        .chain(crossings.all().par_iter().flat_map_iter(cells_around))
+        .collect();
+    distinct_cells(met)
+}
+
+/// The distinct cells of `met`, sorted by `(z, y, x)`. Over a box of at most a few cells per
+/// cell listed (a frame's surface), they are marked and read back in order; sorting every one
+/// of them cost more.
+fn distinct_cells(met: Vec<[i32; 3]>) -> Vec<[i32; 3]> {
+    let (low, high) = met
+        .par_iter()
+        .fold(
+            || ([i32::MAX; 3], [i32::MIN; 3]),
+            |(l, h), &c| (array_min(l, c), array_max(h, c)),
+        )
+        .reduce(
+            || ([i32::MAX; 3], [i32::MIN; 3]),
+            |a, b| (array_min(a.0, b.0), array_max(a.1, b.1)),
+        );
+    let size = [0, 1, 2].map(|k| (i64::from(high[k]) - i64::from(low[k]) + 1).max(0));
+    let volume = size[0].saturating_mul(size[1]).saturating_mul(size[2]);
+    if met.is_empty() || volume > (FOOTPRINT_BOX_PER_CELL * met.len()) as i64 {
+        let mut keys: Vec<u64> = met.par_iter().map(|&c| cell_key(c)).collect();
+        keys.par_sort_unstable();
+        keys.dedup();
+        return keys.par_iter().map(|&k| key_cell(k)).collect();
+    }
+    let size = size.map(|n| n as usize);
+    let mut marked = vec![false; size[0] * size[1] * size[2]];
+    for c in met {
+        let at = [0, 1, 2].map(|k| (c[k] - low[k]) as usize);
+        marked[at[0] + size[0] * (at[1] + size[1] * at[2])] = true;
+    }
+    marked
+        .iter()
+        .enumerate()
+        .filter(|&(_, &m)| m)
+        .map(|(i, _)| {
+            let (x, rest) = (i % size[0], i / size[0]);
+            let (y, z) = (rest % size[1], rest / size[1]);
+            [low[0] + x as i32, low[1] + y as i32, low[2] + z as i32]
+        })
+        .collect()
+}
+
+/// The box [`footprint`] marks its cells in may hold this many cells per cell listed (with
+/// repeats) before they are sorted instead.
+const FOOTPRINT_BOX_PER_CELL: usize = 4;
+
+fn array_min(a: [i32; 3], b: [i32; 3]) -> [i32; 3] {
+    [0, 1, 2].map(|k| a[k].min(b[k]))
+}
+
+fn array_max(a: [i32; 3], b: [i32; 3]) -> [i32; 3] {
+    [0, 1, 2].map(|k| a[k].max(b[k]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Cells close together are marked in their box, cells far apart sorted: either way every
+    /// distinct cell comes once, in `(z, y, x)` order.
+    #[test]
+    fn distinct_cells_come_once_in_order_either_way() {
+        let near: Vec<[i32; 3]> = (0..500)
+            .map(|k: i32| [k % 7 - 3, (k / 7) % 5 - 2, k % 11 - 5])
+            .collect();
+        let mut far = near.clone();
+        far.push([100_000, -90_000, 80_000]);
+        for cells in [near, far] {
+            let mut expected = cells.clone();
+            expected.sort_by_key(|c| (c[2], c[1], c[0]));
+            expected.dedup();
+            assert_eq!(distinct_cells(cells), expected);
+        }
+        assert!(distinct_cells(Vec::new()).is_empty());
+    }
 }
