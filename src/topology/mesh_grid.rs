@@ -168,7 +168,7 @@ impl Tables {
             ),
             items: blocks.into_iter().flat_map(|(_, items)| items).collect(),
         };
-        let mut pierced: Vec<(GridFace, u32)> = (0..edges.verts.len())
+        let pierced: Vec<(GridFace, u32)> = (0..edges.verts.len())
             .into_par_iter()
             .flat_map_iter(|e| {
                 pierces
@@ -177,18 +177,63 @@ impl Tables {
                     .map(move |p| (GridFace::new(p.face, usize::from(p.axis)), e as u32))
             })
             .collect();
-        pierced.par_sort_unstable();
         Self {
+            pierced: sorted_by_face(pierced),
             edges,
             by_triangle: Rows::by_key(
                 crossings.all().iter().map(|c| c.triangle),
                 mesh.triangles.len(),
             ),
             pierces,
-            pierced,
         }
     }
 }
+
+/// `pierced` (in order of its edges, each face at most once an edge) sorted. Over a box of at
+/// most [`SLOTS_PER_PIERCE`] faces per entry (a frame's surface), by counting the entries of
+/// each face and placing them in their order, which is the edges'; else by sorting.
+fn sorted_by_face(mut pierced: Vec<(GridFace, u32)>) -> Vec<(GridFace, u32)> {
+    let (low, high) = pierced
+        .iter()
+        .fold(([i32::MAX; 3], [i32::MIN; 3]), |(l, h), (f, _)| {
+            (
+                [0, 1, 2].map(|k| l[k].min(f.cell[k])),
+                [0, 1, 2].map(|k| h[k].max(f.cell[k])),
+            )
+        });
+    let size = [0, 1, 2].map(|k| (i64::from(high[k]) - i64::from(low[k]) + 1).max(0));
+    let slots = 3i64
+        .saturating_mul(size[0])
+        .saturating_mul(size[1])
+        .saturating_mul(size[2]);
+    if pierced.is_empty() || slots > (SLOTS_PER_PIERCE * pierced.len()) as i64 {
+        pierced.par_sort_unstable();
+        return pierced;
+    }
+    // Slots in the faces' order: by cell x, then y, then z, then axis.
+    let size = size.map(|n| n as usize);
+    let slot = |f: &GridFace| {
+        let at = [0, 1, 2].map(|k| (f.cell[k] - low[k]) as usize);
+        ((at[0] * size[1] + at[1]) * size[2] + at[2]) * 3 + usize::from(f.axis)
+    };
+    let mut starts = vec![0u32; slots as usize + 1];
+    for (f, _) in &pierced {
+        starts[slot(f) + 1] += 1;
+    }
+    for k in 1..starts.len() {
+        starts[k] += starts[k - 1];
+    }
+    let mut sorted = pierced.clone();
+    for entry in pierced {
+        let at = &mut starts[slot(&entry.0)];
+        sorted[*at as usize] = entry;
+        *at += 1;
+    }
+    sorted
+}
+
+/// Faces a box may hold per entry of [`sorted_by_face`] before it sorts instead.
+const SLOTS_PER_PIERCE: usize = 16;
 
 /// A closed mesh rasterized on a grid: its lattice form, where it crosses the grid's edges, and
 /// the sweep's windings. `Φ(M)` is measured from these, and `ConstrainTopology(M, Φ(M))` cuts M
@@ -340,5 +385,36 @@ impl<'a> MeshGrid<'a> {
     /// The cell holding vertex `v`.
     pub fn vertex_cell(&self, v: u32) -> Cell {
         self.lattice.vertex_cell(v)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Entries of faces close together are counted into place, of faces far apart sorted:
+    /// either way they come as sorting them gives.
+    #[test]
+    fn pierced_faces_come_sorted_either_way() {
+        let near: Vec<(GridFace, u32)> = (0..600u32)
+            .flat_map(|e| {
+                let k = e as i32;
+                [0, 1]
+                    .map(|j| {
+                        let cell = [k % 5 - 2, (k / 5) % 4 + j, k % 3 - 1];
+                        (GridFace::new(cell, (e as usize + j as usize) % 3), e)
+                    })
+                    .into_iter()
+                    .take(1 + (e % 2) as usize)
+            })
+            .collect();
+        let mut far = near.clone();
+        far.push((GridFace::new([90_000, -70_000, 60_000], 2), 600));
+        for pierced in [near, far] {
+            let mut expected = pierced.clone();
+            expected.sort_unstable();
+            assert_eq!(sorted_by_face(pierced), expected);
+        }
+        assert!(sorted_by_face(Vec::new()).is_empty());
     }
 }
