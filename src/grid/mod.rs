@@ -15,6 +15,7 @@ pub(crate) use scalar_grid::sample_box;
 pub use scalar_grid::{GridError, MAX_CORNERS, ScalarGrid};
 
 mod band;
+mod cell_box;
 pub mod cpu;
 mod distance;
 mod gpu;
@@ -31,6 +32,7 @@ pub use crate::kernels::shared::{
     BandChunk, BandTile, CELL_UNITS, DistanceParams, FRACTION_BITS, GridCrossing, LatticePoint,
     MAX_CELL_INDEX, MAX_TRIANGLE_SPAN, Nearest, TreeNode, TreeTriangle, TriangleBox, WindingRun,
 };
+pub(crate) use cell_box::CellBox;
 pub use distance::{NarrowBand, signed_distance};
 pub use gpu::{GpuRasterize, GpuSweep};
 pub use lattice::{GridFrame, LatticeMesh, cell_key, key_cell};

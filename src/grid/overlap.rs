@@ -8,8 +8,10 @@
 //! vertex lies in it, one of its edges pierces a face of it, or it crosses an edge of it, so the
 //! union of those three gives the overlap without any further test.
 
+use glam::IVec3;
 use rayon::prelude::*;
 
+use super::cell_box::CellBox;
 use super::lattice::{LatticeMesh, cell_key, key_cell};
 use super::predicates::{LocalSegment, cross_axes};
 use super::sparse::{Crossings, row_starts};
@@ -187,50 +189,36 @@ fn distinct_cells(met: Vec<[i32; 3]>) -> Vec<[i32; 3]> {
     let (low, high) = met
         .par_iter()
         .fold(
-            || ([i32::MAX; 3], [i32::MIN; 3]),
-            |(l, h), &c| (array_min(l, c), array_max(h, c)),
+            || (IVec3::MAX, IVec3::MIN),
+            |(l, h), &c| (l.min(c.into()), h.max(c.into())),
         )
         .reduce(
-            || ([i32::MAX; 3], [i32::MIN; 3]),
-            |a, b| (array_min(a.0, b.0), array_max(a.1, b.1)),
+            || (IVec3::MAX, IVec3::MIN),
+            |a, b| (a.0.min(b.0), a.1.max(b.1)),
         );
-    let size = [0, 1, 2].map(|k| (i64::from(high[k]) - i64::from(low[k]) + 1).max(0));
-    let volume = size[0].saturating_mul(size[1]).saturating_mul(size[2]);
-    if met.is_empty() || volume > (FOOTPRINT_BOX_PER_CELL * met.len()) as i64 {
+    let Some(cells) = CellBox::spanning(low, high, FOOTPRINT_BOX_PER_CELL * met.len()) else {
         let mut keys: Vec<u64> = met.par_iter().map(|&c| cell_key(c)).collect();
         keys.par_sort_unstable();
         keys.dedup();
         return keys.par_iter().map(|&k| key_cell(k)).collect();
-    }
-    let size = size.map(|n| n as usize);
-    let mut marked = vec![false; size[0] * size[1] * size[2]];
+    };
+    let mut marked = vec![false; cells.volume()];
     for c in met {
-        let at = [0, 1, 2].map(|k| (c[k] - low[k]) as usize);
-        marked[at[0] + size[0] * (at[1] + size[1] * at[2])] = true;
+        if let Some(i) = cells.index(c.into()) {
+            marked[i] = true;
+        }
     }
     marked
         .iter()
         .enumerate()
         .filter(|&(_, &m)| m)
-        .map(|(i, _)| {
-            let (x, rest) = (i % size[0], i / size[0]);
-            let (y, z) = (rest % size[1], rest / size[1]);
-            [low[0] + x as i32, low[1] + y as i32, low[2] + z as i32]
-        })
+        .map(|(i, _)| cells.cell(i).to_array())
         .collect()
 }
 
 /// The box [`footprint`] marks its cells in may hold this many cells per cell listed (with
 /// repeats) before they are sorted instead.
 const FOOTPRINT_BOX_PER_CELL: usize = 4;
-
-fn array_min(a: [i32; 3], b: [i32; 3]) -> [i32; 3] {
-    [0, 1, 2].map(|k| a[k].min(b[k]))
-}
-
-fn array_max(a: [i32; 3], b: [i32; 3]) -> [i32; 3] {
-    [0, 1, 2].map(|k| a[k].max(b[k]))
-}
 
 #[cfg(test)]
 mod tests {

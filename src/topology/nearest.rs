@@ -1,9 +1,11 @@
 //! The nearest surviving vertex of a point: the data source of vertices a topology change creates
 //! or deletes with no patch boundary to average (a droplet appearing or vanishing whole, §4.4).
 
-use glam::{I64Vec3, IVec3, Vec3};
+use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
+
+use crate::grid::CellBox;
 
 /// A uniform grid of buckets over the vertices that exist both before and after a topology
 /// change.
@@ -24,7 +26,7 @@ pub(crate) struct Survivors {
 enum Index {
     /// Where each bucket's run starts, for every bucket of the bounds' box (x fastest), and one
     /// past the last.
-    Dense { size: IVec3, starts: Vec<u32> },
+    Dense { cells: CellBox, starts: Vec<u32> },
     /// Each bucket holding points, and its run.
     Sparse(FxHashMap<IVec3, (u32, u32)>),
 }
@@ -55,15 +57,10 @@ impl Survivors {
         let bounds = points.iter().fold((IVec3::MAX, IVec3::MIN), |b, &(_, p)| {
             (b.0.min(key(p)), b.1.max(key(p)))
         });
-        let size = (bounds.1.as_i64vec3() - bounds.0.as_i64vec3() + 1).max(I64Vec3::ZERO);
-        let buckets = size.x.saturating_mul(size.y).saturating_mul(size.z);
-        let dense = !points.is_empty()
-            && usize::try_from(buckets)
-                .is_ok_and(|b| b <= DENSE_PER_POINT * points.len() + DENSE_FLOOR);
-        let index = if dense {
-            let size = size.as_ivec3();
-            let slot = |p: Vec3| linear(key(p) - bounds.0, size);
-            let mut starts = vec![0u32; size.x as usize * size.y as usize * size.z as usize + 1];
+        let most = DENSE_PER_POINT * points.len() + DENSE_FLOOR;
+        let index = if let Some(cells) = CellBox::spanning(bounds.0, bounds.1, most) {
+            let slot = |p: Vec3| cells.index(key(p)).unwrap_or_default();
+            let mut starts = vec![0u32; cells.volume() + 1];
             for &(_, p) in &points {
                 starts[slot(p) + 1] += 1;
             }
@@ -78,7 +75,7 @@ impl Survivors {
                 *at += 1;
             }
             points = sorted;
-            Index::Dense { size, starts }
+            Index::Dense { cells, starts }
         } else {
             let order = |p: Vec3| {
                 let k = key(p);
@@ -110,8 +107,8 @@ impl Survivors {
                 let on_side = y.abs() == ring || z.abs() == ring;
                 let at = |x: i32| centre + IVec3::new(x, y, z);
                 match &self.index {
-                    Index::Dense { size, starts } if on_side => {
-                        visit(self.dense_row((at(-ring), at(ring)), *size, starts));
+                    Index::Dense { cells, starts } if on_side => {
+                        visit(self.dense_row((at(-ring), at(ring)), cells, starts));
                     }
                     _ => {
                         let step = if on_side { 1 } else { 2 * ring as usize };
@@ -128,38 +125,26 @@ impl Survivors {
     fn dense_row(
         &self,
         (first, last): (IVec3, IVec3),
-        size: IVec3,
+        cells: &CellBox,
         starts: &[u32],
     ) -> &[(u32, Vec3)] {
-        let local = |key: IVec3| key.as_i64vec3() - self.bounds.0.as_i64vec3();
-        let (mut first, mut last) = (local(first), local(last));
-        let size = size.as_i64vec3();
-        if first.y < 0 || first.y >= size.y || first.z < 0 || first.z >= size.z {
-            return &[];
+        let first = IVec3::new(first.x.max(cells.low().x), first.y, first.z);
+        let last = IVec3::new(last.x.min(cells.high().x), last.y, last.z);
+        match (cells.index(first), cells.index(last)) {
+            (Some(a), Some(b)) if first.x <= last.x => {
+                &self.points[starts[a] as usize..starts[b + 1] as usize]
+            }
+            _ => &[],
         }
-        first.x = first.x.max(0);
-        last.x = last.x.min(size.x - 1);
-        if first.x > last.x {
-            return &[];
-        }
-        let (a, b) = (
-            starts[linear(first.as_ivec3(), size.as_ivec3())],
-            starts[linear(last.as_ivec3(), size.as_ivec3()) + 1],
-        );
-        &self.points[a as usize..b as usize]
     }
 
     /// The points in bucket `key`.
     fn bucket(&self, key: IVec3) -> &[(u32, Vec3)] {
         let run = match &self.index {
-            Index::Dense { size, starts } => {
-                let local = key.as_i64vec3() - self.bounds.0.as_i64vec3();
-                if local.cmplt(I64Vec3::ZERO).any() || local.cmpge(size.as_i64vec3()).any() {
-                    return &[];
-                }
-                let slot = linear(local.as_ivec3(), *size);
-                (starts[slot], starts[slot + 1])
-            }
+            Index::Dense { cells, starts } => match cells.index(key) {
+                Some(slot) => (starts[slot], starts[slot + 1]),
+                None => return &[],
+            },
             Index::Sparse(runs) => match runs.get(&key) {
                 Some(&run) => run,
                 None => return &[],
@@ -238,11 +223,6 @@ impl Survivors {
     ) -> Vec<Option<u32>> {
         points.map(|p| self.nearest(p)).collect()
     }
-}
-
-/// The index of bucket `local` (relative to the box's first) in a box of `size`, x fastest.
-fn linear(local: IVec3, size: IVec3) -> usize {
-    local.x as usize + size.x as usize * (local.y as usize + size.y as usize * local.z as usize)
 }
 
 #[cfg(test)]

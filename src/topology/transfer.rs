@@ -13,7 +13,7 @@
 use std::borrow::Cow;
 use std::sync::OnceLock;
 
-use glam::{I64Vec3, IVec3, Vec3};
+use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 use rustc_hash::FxHashSet;
 use serde::{Deserialize, Serialize};
@@ -21,6 +21,7 @@ use serde::{Deserialize, Serialize};
 use super::nearest::Survivors;
 
 use crate::compute::Backend;
+use crate::grid::CellBox;
 use crate::mesh::IndexedMesh;
 use crate::project::{Bvh, ProjectError, closest_points};
 
@@ -206,24 +207,18 @@ pub(crate) fn triangles_around(
 /// points of one re-sampling lie in one part of the mesh), else in a hash set. Every triangle of
 /// the surface asks, and most lie outside that box.
 enum NearCells {
-    Listed {
-        low: IVec3,
-        size: IVec3,
-        marked: Vec<bool>,
-    },
+    Listed { cells: CellBox, marked: Vec<bool> },
     Hashed(FxHashSet<IVec3>),
 }
 
 /// Bounding boxes of at most this many cells are listed.
-const LISTED_CELLS: i64 = 1 << 22;
+const LISTED_CELLS: usize = 1 << 22;
 
 impl NearCells {
     fn new(cubes: &[(IVec3, IVec3)]) -> Self {
         let (low, high) = cubes.iter().fold((IVec3::MAX, IVec3::MIN), |(l, h), c| {
             (l.min(c.0), h.max(c.1))
         });
-        let size = (high.as_i64vec3() - low.as_i64vec3() + 1).max(I64Vec3::ZERO);
-        let cells = size.x.saturating_mul(size.y).saturating_mul(size.z);
         let every = || {
             cubes.iter().flat_map(|&(l, h)| {
                 (l.z..=h.z).flat_map(move |z| {
@@ -231,32 +226,27 @@ impl NearCells {
                 })
             })
         };
-        if !cubes.is_empty() && cells <= LISTED_CELLS {
-            let size = size.as_ivec3();
-            let mut marked = vec![false; cells as usize];
-            for c in every() {
-                marked[listed(c - low, size)] = true;
+        match CellBox::spanning(low, high, LISTED_CELLS) {
+            Some(cells) => {
+                let mut marked = vec![false; cells.volume()];
+                for i in every().filter_map(|c| cells.index(c)) {
+                    marked[i] = true;
+                }
+                NearCells::Listed { cells, marked }
             }
-            NearCells::Listed { low, size, marked }
-        } else {
-            NearCells::Hashed(every().collect())
+            None => NearCells::Hashed(every().collect()),
         }
     }
 
     /// Whether the box of cells from `low` to `high` holds a marked cell.
     fn meets(&self, low: IVec3, high: IVec3) -> bool {
         match self {
-            NearCells::Listed {
-                low: start,
-                size,
-                marked,
-            } => {
-                let end = *start + *size - 1;
-                let (low, high) = (low.max(*start), high.min(end));
+            NearCells::Listed { cells, marked } => {
+                let (low, high) = (low.max(cells.low()), high.min(cells.high()));
                 (low.z..=high.z).any(|z| {
                     (low.y..=high.y).any(|y| {
                         (low.x..=high.x)
-                            .any(|x| marked[listed(IVec3::new(x, y, z) - *start, *size)])
+                            .any(|x| cells.index(IVec3::new(x, y, z)).is_some_and(|i| marked[i]))
                     })
                 })
             }
@@ -266,11 +256,6 @@ impl NearCells {
             }),
         }
     }
-}
-
-/// The index of cell `local` (relative to the box's first) in a box of `size`, x fastest.
-fn listed(local: IVec3, size: IVec3) -> usize {
-    local.x as usize + size.x as usize * (local.y as usize + size.y as usize * local.z as usize)
 }
 
 /// How many cells across the cube around a point [`triangles_around`] keeps triangles in may
