@@ -115,6 +115,17 @@ pub fn snap(
             .filter(|&i| touched[i].corners.iter().any(|v| undone_at[v.0 as usize]))
             .collect();
     }
+    // A miss (a vertex beyond reach) reports the point 0, and the rounds judge it as a move
+    // there: its triangles are spoiled by it and undo the moves of their corners, which keeps
+    // the rest of a part registration left far from the target where it is (docs/performance.md,
+    // 2026-12-08: moving them instead did not carry more). The move itself is never made,
+    // whatever the rounds left of it: where a move to 0 spoils nothing, the vertex would jump
+    // there.
+    for (v, n) in vertices.iter().zip(&nearest) {
+        if n.hit_triangle().is_none() {
+            moved[v.0 as usize] = None;
+        }
+    }
     let mut count = 0;
     for v in vertices {
         if let Some(p) = moved[v.0 as usize] {
@@ -173,6 +184,27 @@ mod tests {
             );
             assert!(now >= min_angle().min(before));
         }
+    }
+
+    #[test]
+    fn a_vertex_beyond_reach_never_moves() {
+        // A ball whose top vertex stands 0.01 from the origin, where a miss's point lies, and is
+        // pulled 0.5 out of it: beyond reach, though a move to the origin would spoil nothing.
+        let ball = sphere(1.0, 3, false);
+        let top = (0..ball.positions.len())
+            .max_by(|&a, &b| ball.positions[a].z.total_cmp(&ball.positions[b].z))
+            .unwrap();
+        let shift = Vec3::new(0.01, 0.0, 0.0) - ball.positions[top];
+        let mut source = ball.clone();
+        source.positions.iter_mut().for_each(|p| *p += shift);
+        let out = ball.positions[top].normalize() * 0.5;
+        source.positions[top] += out;
+        let mut target = sphere(1.0, 4, true);
+        target.positions.iter_mut().for_each(|p| *p += shift);
+        let bvh = Bvh::build(&target).unwrap();
+        let mut mesh = Mesh::from_indexed(&source).unwrap();
+        snap(&Backend::Cpu, &mut mesh, &bvh, min_angle()).unwrap();
+        assert_eq!(mesh.to_indexed().positions[top], source.positions[top]);
     }
 
     #[test]
