@@ -43,7 +43,7 @@ pub use predicates::cross_axes;
 pub(crate) use predicates::{last_above, segment_sign};
 pub use raster_error::RasterError;
 pub use rasterize::rasterize;
-pub(crate) use sparse::row_starts;
 pub use sparse::{Crossings, GridLine, LineIndex};
+pub(crate) use sparse::{by_slot, row_starts};
 pub use sweep::{CornerWindings, Windings, sweep};
 pub use triangle_tree::TriangleTree;

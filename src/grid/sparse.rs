@@ -25,6 +25,29 @@ pub(crate) fn row_starts(counts: impl IntoIterator<Item = u32>) -> Vec<u32> {
         .collect()
 }
 
+/// `items` placed by slot (`slot(item) < slots` for each), each slot's in their order in `items`,
+/// and where each slot's run starts ([`row_starts`] of the slots' counts): a counting sort, for
+/// keys that number few slots per item.
+pub(crate) fn by_slot<T: Copy>(
+    items: &[T],
+    slots: usize,
+    slot: impl Fn(&T) -> usize,
+) -> (Vec<T>, Vec<u32>) {
+    let mut counts = vec![0u32; slots];
+    for item in items {
+        counts[slot(item)] += 1;
+    }
+    let starts = row_starts(counts);
+    let mut next = starts.clone();
+    let mut placed = items.to_vec();
+    for item in items {
+        let at = &mut next[slot(item)];
+        placed[*at as usize] = *item;
+        *at += 1;
+    }
+    (placed, starts)
+}
+
 /// The corners that differ only along `axis`: the line through cells `at` of the two other axes,
 /// in [`cross_axes`] order (`(y, z)` for x lines, `(z, x)` for y lines, `(x, y)` for z lines).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -191,4 +214,21 @@ impl Crossings {
 /// The line a crossing lies on.
 pub(crate) fn line_of(c: &GridCrossing) -> GridLine {
     GridLine::through(c.axis(), c.corner)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn items_placed_by_slot_keep_their_order_within_a_slot() {
+        let items = [(2, 'a'), (0, 'b'), (2, 'c'), (3, 'd'), (0, 'e')];
+        let (placed, starts) = by_slot(&items, 4, |&(s, _)| s);
+        assert_eq!(placed, [(0, 'b'), (0, 'e'), (2, 'a'), (2, 'c'), (3, 'd')]);
+        assert_eq!(starts, [0, 2, 2, 4, 5]);
+        assert_eq!(
+            by_slot(&[] as &[(usize, char)], 3, |&(s, _)| s).1,
+            [0, 0, 0, 0]
+        );
+    }
 }

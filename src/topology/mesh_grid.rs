@@ -2,6 +2,7 @@
 //! module), and what the cut needs besides (thesis §3.4.2, appendix A): the edge table, the crossings
 //! of each triangle, and where each mesh edge pierces the grid's planes, in order along the edge.
 
+use glam::IVec3;
 use rayon::prelude::*;
 use std::sync::OnceLock;
 
@@ -10,7 +11,8 @@ use super::keys::{Cell, Corner, GridEdge, GridFace};
 use super::segment::Segment;
 use crate::compute::Backend;
 use crate::grid::{
-    Crossings, GridCrossing, GridFrame, LatticeMesh, Windings, rasterize, row_starts, sweep,
+    CellBox, Crossings, GridCrossing, GridFrame, LatticeMesh, Windings, by_slot, rasterize,
+    row_starts, sweep,
 };
 use crate::mesh::{FaceId, HalfEdgeId, IndexedMesh, Mesh};
 
@@ -191,45 +193,24 @@ impl Tables {
 
 /// `pierced` (in order of its edges, each face at most once an edge) sorted. Over a box of at
 /// most [`SLOTS_PER_PIERCE`] faces per entry (a frame's surface), by counting the entries of
-/// each face and placing them in their order, which is the edges'; else by sorting.
+/// each face into place, which keeps them in their edges' order; else by sorting.
 fn sorted_by_face(mut pierced: Vec<(GridFace, u32)>) -> Vec<(GridFace, u32)> {
+    // Faces sort by cell x first: the box is over (z, y, x), whose numbers run x slowest.
+    let reversed = |c: Cell| IVec3::new(c[2], c[1], c[0]);
     let (low, high) = pierced
         .iter()
-        .fold(([i32::MAX; 3], [i32::MIN; 3]), |(l, h), (f, _)| {
-            (
-                [0, 1, 2].map(|k| l[k].min(f.cell[k])),
-                [0, 1, 2].map(|k| h[k].max(f.cell[k])),
-            )
+        .fold((IVec3::MAX, IVec3::MIN), |(l, h), (f, _)| {
+            (l.min(reversed(f.cell)), h.max(reversed(f.cell)))
         });
-    let size = [0, 1, 2].map(|k| (i64::from(high[k]) - i64::from(low[k]) + 1).max(0));
-    let slots = 3i64
-        .saturating_mul(size[0])
-        .saturating_mul(size[1])
-        .saturating_mul(size[2]);
-    if pierced.is_empty() || slots > (SLOTS_PER_PIERCE * pierced.len()) as i64 {
+    let Some(cells) = CellBox::spanning(low, high, SLOTS_PER_PIERCE * pierced.len() / 3) else {
         pierced.par_sort_unstable();
         return pierced;
-    }
-    // Slots in the faces' order: by cell x, then y, then z, then axis.
-    let size = size.map(|n| n as usize);
-    let slot = |f: &GridFace| {
-        let at = [0, 1, 2].map(|k| (f.cell[k] - low[k]) as usize);
-        ((at[0] * size[1] + at[1]) * size[2] + at[2]) * 3 + usize::from(f.axis)
     };
-    let mut starts = vec![0u32; slots as usize + 1];
-    for (f, _) in &pierced {
-        starts[slot(f) + 1] += 1;
-    }
-    for k in 1..starts.len() {
-        starts[k] += starts[k - 1];
-    }
-    let mut sorted = pierced.clone();
-    for entry in pierced {
-        let at = &mut starts[slot(&entry.0)];
-        sorted[*at as usize] = entry;
-        *at += 1;
-    }
-    sorted
+    // A cell's three faces in axis order.
+    by_slot(&pierced, 3 * cells.volume(), |(f, _)| {
+        3 * cells.index(reversed(f.cell)).unwrap_or_default() + usize::from(f.axis)
+    })
+    .0
 }
 
 /// Faces a box may hold per entry of [`sorted_by_face`] before it sorts instead.

@@ -5,7 +5,7 @@ use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
-use crate::grid::CellBox;
+use crate::grid::{CellBox, by_slot};
 
 /// A uniform grid of buckets over the vertices that exist both before and after a topology
 /// change.
@@ -59,21 +59,9 @@ impl Survivors {
         });
         let most = DENSE_PER_POINT * points.len() + DENSE_FLOOR;
         let index = if let Some(cells) = CellBox::spanning(bounds.0, bounds.1, most) {
-            let slot = |p: Vec3| cells.index(key(p)).unwrap_or_default();
-            let mut starts = vec![0u32; cells.volume() + 1];
-            for &(_, p) in &points {
-                starts[slot(p) + 1] += 1;
-            }
-            for k in 1..starts.len() {
-                starts[k] += starts[k - 1];
-            }
-            let mut next = starts.clone();
-            let mut sorted = vec![(0, Vec3::ZERO); points.len()];
-            for &(v, p) in &points {
-                let at = &mut next[slot(p)];
-                sorted[*at as usize] = (v, p);
-                *at += 1;
-            }
+            let (sorted, starts) = by_slot(&points, cells.volume(), |&(_, p)| {
+                cells.index(key(p)).unwrap_or_default()
+            });
             points = sorted;
             Index::Dense { cells, starts }
         } else {
